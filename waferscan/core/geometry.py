@@ -1,0 +1,310 @@
+"""Beam-wafer geometry: the exact segment-disc test, the paper's mid-plane test, the accessibility
+check and the closed-form range of scan positions over which a beam hits a wafer.
+
+The exact test is written twice, once for Python floats (the ``loop`` engine, step by step as the
+paper does) and once for numpy arrays (the ``vector`` engine). Both spell out the same arithmetic
+in the same order, so they give bit-identical answers; a test keeps them so.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# Touching counts as blocked: the wafer is inflated by this much (mm) in every test (SPEC §2).
+TOUCH_TOLERANCE = 1e-9
+
+
+def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
+    """True when the segment [emitter, emitter + length*direction] meets the wafer solid.
+
+    The solid is {c + u : 0 <= u.n <= t, |u - (u.n) n| <= R}, grown by ``tol``. Along the beam
+    (parameter lam in mm) the thickness band and the radius each allow one interval of lam; the
+    beam hits when those and [0, L] overlap.
+    """
+    ox, oy, oz = emitter
+    ex, ey, ez = beam.direction
+    cx, cy, cz = wafer.center
+    nx, ny, nz = wafer.normal
+    wx = ox - cx
+    wy = oy - cy
+    wz = oz - cz
+    wn = wx * nx + wy * ny + wz * nz
+    en = ex * nx + ey * ny + ez * nz
+    lo = -tol
+    hi = beam.length + tol
+    # Thickness band: -tol <= wn + lam*en <= t + tol.
+    if en == 0.0:
+        if wn < -tol or wn > wafer.thickness + tol:
+            return False
+    else:
+        a = (-tol - wn) / en
+        b = (wafer.thickness + tol - wn) / en
+        lo = max(lo, min(a, b))
+        hi = min(hi, max(a, b))
+    # Radius: |p + lam*q|^2 <= (R + tol)^2, p and q the parts of w and e across the normal.
+    px = wx - wn * nx
+    py = wy - wn * ny
+    pz = wz - wn * nz
+    qx = ex - en * nx
+    qy = ey - en * ny
+    qz = ez - en * nz
+    qq = qx * qx + qy * qy + qz * qz
+    pq = px * qx + py * qy + pz * qz
+    r = wafer.radius + tol
+    c = px * px + py * py + pz * pz - r * r
+    if qq == 0.0:
+        if c > 0.0:
+            return False
+    else:
+        disc = pq * pq - qq * c
+        if disc < 0.0:
+            return False
+        # The root pair without cancellation: q/qq and c/q.
+        s = -pq - math.copysign(math.sqrt(disc), pq)
+        r1 = s / qq
+        r2 = c / s if s != 0.0 else 0.0
+        lo = max(lo, min(r1, r2))
+        hi = min(hi, max(r1, r2))
+    return lo <= hi
+
+
+def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness,
+                     tol=TOUCH_TOLERANCE):
+    """``beam_hits_wafer`` over numpy arrays that broadcast (e.g. steps x wafers).
+
+    Emitter coordinates ``ox, oy, oz`` and wafer columns ``cx ... thickness`` are arrays; the
+    beam's direction and length are shared. Returns a boolean array.
+    """
+    ex, ey, ez = beam.direction
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        wx = ox - cx
+        wy = oy - cy
+        wz = oz - cz
+        wn = wx * nx + wy * ny + wz * nz
+        en = ex * nx + ey * ny + ez * nz
+        lo = np.full(np.broadcast(wn, en).shape, -tol)
+        hi = np.full(lo.shape, beam.length + tol)
+        en_zero = en == 0.0
+        ok = ~en_zero | ((wn >= -tol) & (wn <= thickness + tol))
+        a = (-tol - wn) / en
+        b = (thickness + tol - wn) / en
+        lo = np.where(en_zero, lo, np.maximum(lo, np.minimum(a, b)))
+        hi = np.where(en_zero, hi, np.minimum(hi, np.maximum(a, b)))
+        px = wx - wn * nx
+        py = wy - wn * ny
+        pz = wz - wn * nz
+        qx = ex - en * nx
+        qy = ey - en * ny
+        qz = ez - en * nz
+        qq = qx * qx + qy * qy + qz * qz
+        pq = px * qx + py * qy + pz * qz
+        r = radius + tol
+        c = px * px + py * py + pz * pz - r * r
+        qq_zero = qq == 0.0
+        disc = pq * pq - qq * c
+        ok &= np.where(qq_zero, c <= 0.0, disc >= 0.0)
+        s = -pq - np.copysign(np.sqrt(np.maximum(disc, 0.0)), pq)
+        r1 = s / qq
+        r2 = np.where(s != 0.0, c / s, 0.0)
+        lo = np.where(qq_zero, lo, np.maximum(lo, np.minimum(r1, r2)))
+        hi = np.where(qq_zero, hi, np.minimum(hi, np.maximum(r1, r2)))
+        return ok & (lo <= hi)
+
+
+def wafer_columns(wafers):
+    """The wafers as numpy columns for ``beam_hits_wafers``: (cx, cy, cz, nx, ny, nz, R, t)."""
+    if not wafers:
+        empty = np.zeros(0)
+        return (empty,) * 8
+    data = np.array([(*w.center, *w.normal, w.radius, w.thickness) for w in wafers], dtype=float)
+    return tuple(data[:, i] for i in range(8))
+
+
+def paper_beam_hits_wafer(emitter, beam, wafer):
+    """The paper's test (eqs. 1-5): where the beam line meets the wafer's mid-plane, is it
+    closer than R to the centre? For a beam parallel to the wafer (e.n = 0), equation 2 would
+    divide by zero: then s = (r_c - r0).e and the emitter must lie within the thickness band.
+    Thickness is otherwise ignored, as in the paper."""
+    rc = wafer.mid_center
+    n = wafer.normal
+    e = beam.direction
+    r0c = tuple(c - o for c, o in zip(rc, emitter))  # eq. 1
+    en = sum(a * b for a, b in zip(e, n))
+    if abs(en) < 1e-12:
+        height = sum((o - c) * k for o, c, k in zip(emitter, wafer.center, n))
+        if not 0.0 <= height <= wafer.thickness:
+            return False
+        s = sum(a * b for a, b in zip(r0c, e))  # eq. 3
+    else:
+        s = sum(a * b for a, b in zip(r0c, n)) / en  # eq. 2
+    if not 0.0 <= s <= beam.length:
+        return False
+    ri = tuple(o + s * d for o, d in zip(emitter, e))  # eq. 4
+    dr = tuple(a - b for a, b in zip(ri, rc))  # eq. 5
+    return math.sqrt(sum(d * d for d in dr)) < wafer.radius
+
+
+def wafer_bounds(wafer):
+    """Axis-aligned bounds of the wafer solid: ((xmin, ymin, zmin), (xmax, ymax, zmax))."""
+    mid = wafer.mid_center
+    half = []
+    for k in wafer.normal:
+        half.append(wafer.radius * math.sqrt(max(0.0, 1.0 - k * k)) + 0.5 * wafer.thickness * abs(k))
+    return (tuple(m - h for m, h in zip(mid, half)), tuple(m + h for m, h in zip(mid, half)))
+
+
+def _distance_to_segment_xy(point, a, b):
+    px, py = point[0] - a[0], point[1] - a[1]
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    dd = dx * dx + dy * dy
+    f = 0.0 if dd == 0.0 else min(1.0, max(0.0, (px * dx + py * dy) / dd))
+    return math.hypot(px - f * dx, py - f * dy)
+
+
+def accessible(layout, wafer, z_from, z_to, tol=TOUCH_TOLERANCE):
+    """The paper's accessibility check: can the beam, swept from scan position z_from to z_to,
+    reach the wafer at all? Looks at the XY plane and at Z separately, with bounds that only
+    ever over-estimate the reach, so a wafer the beam can hit is never dropped."""
+    beam = layout.beam
+    lo_z, hi_z = min(z_from, z_to), max(z_from, z_to)
+    (_, _, wz0), (_, _, wz1) = wafer_bounds(wafer)
+    margin = 10.0 * tol
+    # Z: the emitter's z is the scan position; the receiver is length*ez above or below it.
+    rise = beam.length * beam.direction[2]
+    if hi_z + max(0.0, rise) < wz0 - margin or lo_z + min(0.0, rise) > wz1 + margin:
+        return False
+    # XY: distance from the wafer's centre to the beam's footprint at the start, less the
+    # sideways drift of a tilted lift axis over the whole travel.
+    start = layout.emitter_at(lo_z)
+    end = tuple(o + beam.length * d for o, d in zip(start, beam.direction))
+    mid = wafer.mid_center
+    nx, ny, _ = wafer.normal
+    # Every point of the solid is mid + (in-plane part, |.| <= R) + (along n, |.| <= t/2).
+    reach_xy = wafer.radius + 0.5 * wafer.thickness * math.hypot(nx, ny)
+    ax, ay, az = layout.lift_axis
+    drift = math.hypot(ax, ay) / az * (hi_z - lo_z)
+    return _distance_to_segment_xy(mid, start, end) <= reach_xy + drift + margin
+
+
+# --- Closed-form range of translations -------------------------------------------------------
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross_norm2(a, b):
+    x = a[1] * b[2] - a[2] * b[1]
+    y = a[2] * b[0] - a[0] * b[2]
+    z = a[0] * b[1] - a[1] * b[0]
+    return x * x + y * y + z * z
+
+
+def _solve_lines(l1, l2):
+    a1, b1, c1 = l1
+    a2, b2, c2 = l2
+    det = a1 * b2 - a2 * b1
+    scale = math.hypot(a1, b1) * math.hypot(a2, b2)
+    if scale == 0.0 or abs(det) <= 1e-14 * scale:
+        return None
+    return ((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det)
+
+
+def _line_meets_circle(line, p, q, g, r2):
+    """Points (lam, tau) of the line alpha*lam + beta*tau = gamma where |p + lam q + tau g| = r."""
+    alpha, beta, gamma = line
+    nn = alpha * alpha + beta * beta
+    if nn == 0.0:
+        return []
+    lam0, tau0 = gamma * alpha / nn, gamma * beta / nn
+    dlam, dtau = -beta, alpha
+    p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
+    v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
+    vv = _dot(v, v)
+    if vv == 0.0:
+        return []
+    pv = _dot(p0, v)
+    c = _dot(p0, p0) - r2
+    disc = pv * pv - vv * c
+    if disc < 0.0:
+        return []
+    root = math.sqrt(disc)
+    return [(lam0 + s * dlam, tau0 + s * dtau) for s in ((-pv - root) / vv, (-pv + root) / vv)]
+
+
+def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
+    """Closed form: the range [tau_lo, tau_hi] of translations tau along ``axis`` (a unit vector)
+    for which the beam moved to ``emitter + tau*axis`` meets the wafer; None if there is none.
+
+    The points emitter + lam*e + tau*axis, 0 <= lam <= L, that lie in the (convex) wafer form a
+    convex region of the (lam, tau) plane bounded by straight lines (the beam's ends, the two
+    faces) and by a conic (the rim). A linear function's extremes over such a region lie at a
+    corner of two boundaries, where a line crosses the conic, or where the conic is tangent to a
+    line tau = const; all those candidates are listed and the feasible ones kept.
+    """
+    e = beam.direction
+    n = wafer.normal
+    w = tuple(o - c for o, c in zip(emitter, wafer.center))
+    wn, en, an = _dot(w, n), _dot(e, n), _dot(axis, n)
+    p = tuple(wi - wn * ni for wi, ni in zip(w, n))
+    q = tuple(ei - en * ni for ei, ni in zip(e, n))
+    g = tuple(ai - an * ni for ai, ni in zip(axis, n))
+    r = wafer.radius + tol
+    r2 = r * r
+    t = wafer.thickness
+
+    lines = [(1.0, 0.0, -tol), (1.0, 0.0, beam.length + tol)]
+    if en == 0.0 and an == 0.0:
+        if not -tol <= wn <= t + tol:
+            return None
+    else:
+        lines += [(en, an, -tol - wn), (en, an, t + tol - wn)]
+
+    qq, gg = _dot(q, q), _dot(g, g)
+    conic = False
+    if qq == 0.0 and gg == 0.0:
+        if _dot(p, p) > r2:
+            return None
+    elif _cross_norm2(q, g) <= 1e-20 * qq * gg:
+        # Beam and axis cross the normal along one line: the rim bounds one combination
+        # m = lam*qu + tau*gu between two roots, i.e. two parallel lines.
+        big = q if qq >= gg else g
+        norm = math.sqrt(_dot(big, big))
+        u = tuple(b / norm for b in big)
+        qu, gu, pu = _dot(q, u), _dot(g, u), _dot(p, u)
+        disc = pu * pu - (_dot(p, p) - r2)
+        if disc < 0.0:
+            return None
+        root = math.sqrt(disc)
+        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
+    else:
+        conic = True
+
+    candidates = []
+    for i, first in enumerate(lines):
+        for second in lines[i + 1:]:
+            point = _solve_lines(first, second)
+            if point is not None:
+                candidates.append(point)
+    if conic:
+        for line in lines:
+            candidates += _line_meets_circle(line, p, q, g, r2)
+        # Where the rim is tangent to tau = const: d/dlam |p + lam q + tau g|^2 = 0.
+        candidates += _line_meets_circle((qq, _dot(q, g), -_dot(q, p)), p, q, g, r2)
+
+    slack = 1e-9
+    feasible = []
+    for lam, tau in candidates:
+        if not -tol - slack <= lam <= beam.length + tol + slack:
+            continue
+        h = wn + lam * en + tau * an
+        if not -tol - slack <= h <= t + tol + slack:
+            continue
+        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
+        if _dot(x, x) > r2 + 2.0 * r * slack:
+            continue
+        feasible.append(tau)
+    if not feasible:
+        return None
+    return (min(feasible), max(feasible))

@@ -1,0 +1,256 @@
+"""The link to the robot's motion control software (MCS): three text files in one folder.
+
+- ``parameters.txt``: ``key = value`` lines the user sets; a key left out keeps the layout's value.
+- ``commands.txt``: ``<seq> <COMMAND> [ARGS]`` lines the MCS appends.
+- ``results.txt``: written by the simulator, atomically, for the MCS to read.
+
+All three are UTF-8 (a BOM is tolerated), with LF or CRLF line ends; ``#`` starts a comment.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import tempfile
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from . import schema
+from .errors import InputError
+
+PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
+
+COMMAND_NAMES = {"SCF": "fast scan", "SCS": "slow scan", "STOP": "stop the running scan"}
+
+# Keys of parameters.txt besides the scan and mapping keys: the scanned carrier and its nominal
+# slots as the MCS knows them (they change what the mapping judges against, not the geometry).
+CARRIER_KEYS = {
+    "carrier": schema.name,
+    "slot_count": schema.count,
+    "slot_pitch": schema.positive,
+    "first_slot_z": schema.number,
+    "wafer_thickness": schema.positive,
+    "wafer_diameter": schema.positive,
+}
+PARAMETER_KEYS = {**schema.SCAN_KEYS, **CARRIER_KEYS, **schema.MAPPING_KEYS}
+_CARRIER_FIELDS = {"slot_count": "slot_count", "slot_pitch": "pitch",
+                   "first_slot_z": "first_slot_z", "wafer_thickness": "wafer_thickness",
+                   "wafer_diameter": "wafer_diameter"}
+
+
+def read_text(path):
+    """A text file's contents as str (BOM dropped); an InputError naming the file otherwise."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(path, None, f"cannot read: {exc.strerror}") from None
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(path, raw[:exc.start].count(b"\n") + 1, "not UTF-8 text") from None
+
+
+def _content_lines(text):
+    """(line number, text without comment, stripped) for each non-blank line."""
+    for number, line in enumerate(text.splitlines(), start=1):
+        content = line.split("#", 1)[0].strip()
+        if content:
+            yield number, content
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """The values of a parameters.txt, with the line each came from."""
+
+    values: dict
+    lines: dict
+    source: str
+
+    def error(self, key, message):
+        return InputError(self.source, self.lines.get(key), f"{key}: {message}")
+
+
+def parse_parameters(text, source=PARAMETERS):
+    """Parse parameters.txt text; unknown keys, repeated keys and bad values are errors."""
+    values, lines = {}, {}
+    for number, content in _content_lines(text.lstrip("\ufeff")):
+        key, sep, value = content.partition("=")
+        key = key.strip().lower()
+        if not sep or not key:
+            raise InputError(source, number, f"expected 'key = value', got {content!r}")
+        if key not in PARAMETER_KEYS:
+            raise InputError(source, number, f"unknown key {key!r} (known: "
+                             f"{', '.join(sorted(PARAMETER_KEYS))})")
+        if key in values:
+            raise InputError(source, number, f"{key}: given twice (first on line {lines[key]})")
+        if not value.strip():
+            raise InputError(source, number, f"{key}: no value")
+        try:
+            values[key] = PARAMETER_KEYS[key](value)
+        except ValueError as exc:
+            raise InputError(source, number, f"{key}: {exc}") from None
+        lines[key] = number
+    return Parameters(values, lines, str(source))
+
+
+def read_parameters(path):
+    return parse_parameters(read_text(path), str(path))
+
+
+def apply_parameters(layout, parameters):
+    """The layout with the parameters' values in place of its own; checks that the result makes
+    a scan (the error names the parameter's line)."""
+    v = parameters.values
+    scan = replace(layout.scan, **{k: v[k] for k in schema.SCAN_KEYS if k in v})
+    mapping = replace(layout.mapping, **{k: v[k] for k in schema.MAPPING_KEYS if k in v})
+    chosen = v.get("carrier", layout.carrier)
+    names = [c.name for c in layout.carriers]
+    if chosen is not None and chosen not in names:
+        raise parameters.error("carrier", f"no carrier named {chosen!r} in the layout "
+                               f"(carriers: {', '.join(names)})")
+    if chosen is None and len(names) > 1:
+        raise InputError(parameters.source, None,
+                         f"the layout has several carriers ({', '.join(names)}): "
+                         "say which with carrier = NAME")
+    layout = replace(layout, scan=scan, mapping=mapping, carrier=chosen)
+    carrier = layout.scanned_carrier
+    nominal = {field: v[key] for key, field in _CARRIER_FIELDS.items() if key in v}
+    if nominal:
+        carrier = replace(carrier, **nominal)
+        layout = replace(layout, carriers=tuple(carrier if c.name == chosen else c
+                                                for c in layout.carriers))
+    if carrier.wafer_thickness >= carrier.pitch:
+        key = "wafer_thickness" if "wafer_thickness" in v else "slot_pitch"
+        raise parameters.error(key, f"wafer thickness {carrier.wafer_thickness:g} must be "
+                                    f"less than the pitch {carrier.pitch:g}")
+    try:
+        schema.check_scan_range(scan.start_z, scan.final_z, scan.z_step)
+    except ValueError as exc:
+        key = next((k for k in ("final_z", "start_z", "z_step") if k in v), None)
+        if key is None:
+            raise InputError(parameters.source, None, str(exc)) from None
+        raise parameters.error(key, str(exc)) from None
+    return layout
+
+
+def used_parameters(layout):
+    """Every parameters.txt key with the value the layout's scan uses, in the file's order."""
+    scan, carrier, mapping = layout.scan, layout.scanned_carrier, layout.mapping
+    values = {"carrier": carrier.name}
+    values.update({key: getattr(scan, key) for key in schema.SCAN_KEYS})
+    values.update({key: getattr(carrier, field) for key, field in _CARRIER_FIELDS.items()})
+    values["thickness_tolerance"] = mapping.thickness_tolerance_for(carrier.wafer_thickness)
+    values["position_tolerance"] = mapping.position_tolerance
+    values["protrusion_limit"] = mapping.protrusion_limit
+    return values
+
+
+def _text(value):
+    return repr(float(value)) if isinstance(value, float) else str(value)
+
+
+def format_parameters(layout):
+    """parameters.txt text with every key set to the layout's value."""
+    lines = ["# WaferScan scan parameters: key = value, lengths in mm, times in s, speeds in mm/s"]
+    lines += [f"{key} = {_text(value)}" for key, value in used_parameters(layout).items()]
+    return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class Command:
+    """One line of commands.txt. ``problem`` says why it cannot be carried out, if so."""
+
+    seq: int | None
+    name: str
+    args: tuple
+    line: int
+    problem: str | None = None
+
+
+def parse_commands(text):
+    """The complete lines of commands.txt, in order. A last line without its newline is still
+    being written and is left out. A seq that is not an integer or not above the one before is
+    reported in ``problem``, as is an unknown command."""
+    text = text.lstrip("\ufeff")
+    complete = text[:text.rfind("\n") + 1]
+    commands = []
+    last_seq = None
+    for number, content in _content_lines(complete):
+        words = content.split()
+        name = words[1].upper() if len(words) > 1 else ""
+        try:
+            seq = int(words[0])
+        except ValueError:
+            commands.append(Command(None, name, tuple(words[2:]), number,
+                                    f"seq must be a whole number, got {words[0]!r}"))
+            continue
+        problem = None
+        if last_seq is not None and seq <= last_seq:
+            problem = f"seq {seq} is not above the one before ({last_seq})"
+        else:
+            last_seq = seq
+            if not name:
+                problem = "no command after the seq"
+            elif name not in COMMAND_NAMES:
+                problem = f"unknown command {words[1]!r} (known: {', '.join(COMMAND_NAMES)})"
+        commands.append(Command(seq, name, tuple(words[2:]), number, problem))
+    return commands
+
+
+RESULT_COLUMNS = ("slot", "slot_z", "wafer", "in", "out", "diff", "state")
+
+
+def _mm(x):
+    return "" if x is None else f"{x:.3f}"
+
+
+def format_results(seq, command, result=None, error=None, timestamp=None):
+    """results.txt text: ``key = value`` header lines, a blank line, then the tab-separated table
+    (slot, slot_z, wafer, in, out, diff, state) in millimetres to the micrometre. With ``error``
+    the status is ``error`` and there is no table."""
+    if timestamp is None:
+        timestamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    header = [("seq", "" if seq is None else str(seq)), ("command", command),
+              ("status", "error" if error else "ok"),
+              ("message", " ".join(str(error).split()) if error else ""),
+              ("code", result.code if result and not error else ""),
+              ("e87", result.e87 if result and not error else ""),
+              ("timestamp", timestamp)]
+    if result is not None and not error:
+        header.append(("engine", result.engine))
+        header += [(k, _text(v)) for k, v in used_parameters(result.layout).items()]
+    lines = [f"{k} = {v}".rstrip() for k, v in header]
+    if result is not None and not error:
+        lines += ["", "\t".join(RESULT_COLUMNS)]
+        for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
+            lines.append("\t".join((str(slot), _mm(seat), ",".join(wafers) or "-", _mm(z_in),
+                                    _mm(z_out), _mm(diff), state)))
+    return "\n".join(lines) + "\n"
+
+
+def atomic_write_text(path, text):
+    """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
+    half of one: write a temporary file beside it, flush it to disk, then rename over."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
+            handle.write(text)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    try:
+        dir_fd = os.open(path.parent, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(dir_fd)
+    finally:
+        os.close(dir_fd)

@@ -1,0 +1,64 @@
+"""What a scan result looks like to a person (a table like the paper's Table 1) and to a program
+(one JSON object, SPEC §7)."""
+
+from __future__ import annotations
+
+from .mapping import STATE_NAMES
+from .mcs import used_parameters
+
+# The paper's Table 1: slot -> (wafer #, IN, OUT, diff) in mm; slots not listed were empty.
+PAPER_TABLE_1 = {
+    1: (1, 293.96, 294.62, 0.66), 2: (2, 303.97, 304.63, 0.66), 4: (3, 323.99, 324.65, 0.66),
+    5: (4, 336.53, 341.92, 5.38), 7: (5, 353.96, 354.62, 0.66), 10: (6, 383.98, 384.64, 0.66),
+    11: (7, 396.58, 401.96, 5.38), 16: (8, 443.98, 444.64, 0.66), 18: (9, 463.99, 464.65, 0.66),
+    24: (10, 523.99, 524.65, 0.66),
+}
+PAPER_CODE = "1101221001220001010000010"
+
+
+def result_dict(result):
+    """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine."""
+    return {
+        "code": result.code,
+        "e87": result.e87,
+        "engine": result.engine,
+        "slots": [{"slot": s.slot, "z": s.seat_z, "state": s.state,
+                   "state_name": STATE_NAMES[s.state], "runs": list(s.runs)}
+                  for s in result.slot_map.slots],
+        "runs": [{"in": r.z_in, "out": r.z_out, "diff": r.diff, "wafers": list(r.wafers)}
+                 for r in result.runs],
+        "wafers": [{"name": w.name, "in": w.z_in, "out": w.z_out, "diff": w.diff}
+                   for w in result.wafers],
+        "protrusions": [{"name": name, "mm": amount} for name, amount in result.protrusions],
+        "params": used_parameters(result.layout),
+    }
+
+
+def _mm(x, digits=3):
+    return "" if x is None else f"{x:.{digits}f}"
+
+
+def format_table(result, paper=False):
+    """The results as a text table, one line per slot (and per extra run in a slot). With
+    ``paper`` the paper's own IN, OUT and diff stand beside ours."""
+    head = ["slot", "slot Z", "wafer", "IN", "OUT", "diff", "state"]
+    if paper:
+        head += ["paper #", "paper IN", "paper OUT", "paper diff"]
+    rows = []
+    for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
+        row = [str(slot), _mm(seat, 2), ",".join(wafers) or "-", _mm(z_in), _mm(z_out), _mm(diff),
+               state]
+        if paper:
+            ref = PAPER_TABLE_1.get(slot)
+            row += ["", "", "", ""] if ref is None else [str(ref[0])] + [f"{v:.2f}" for v in ref[1:]]
+        rows.append(row)
+    widths = [max(len(r[i]) for r in rows + [head]) for i in range(len(head))]
+    right = {0, 1, 3, 4, 5, 8, 9, 10}
+
+    def line(cells):
+        return "  ".join(c.rjust(w) if i in right else c.ljust(w)
+                         for i, (c, w) in enumerate(zip(cells, widths))).rstrip()
+
+    out = [line(head), line(["-" * w for w in widths])]
+    out += [line(r) for r in rows]
+    return "\n".join(out)

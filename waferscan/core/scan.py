@@ -1,0 +1,221 @@
+"""One scan, start to finish: engine, sensor runs as the MCS sees them, per-wafer intervals,
+protrusion check and slot map.
+
+Semantics of the modes (SPEC §3):
+- ``fast``: one stroke over [start_z, final_z] (``up``, ``down``, or ``updown``: both, averaged).
+  A latched edge trails the true one by scan_speed * sensor_response in the direction of motion.
+- ``slow``: the end-effector stops at each step of each pocket's window [seat - p/2, seat + p/2]
+  of the scanned carrier, so the sensor is read at rest (no latch lag) and only the carrier's
+  windows are swept; the windows tile the carrier, so a run crossing two pockets stays whole.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .engines import ExactHits, run_engine
+from .geometry import wafer_bounds
+from .mapping import STATE_NAMES, SlotPlan, map_slots
+from .model import DOWN, SLOW, UP, UPDOWN
+
+
+@dataclass(frozen=True)
+class SensorRun:
+    """A run of the sensor signal as latched: IN where the beam got blocked, OUT where it was
+    last blocked, in the order of motion. ``wafers`` names the wafers that caused it (the
+    simulator knows, a real sensor does not)."""
+
+    z_in: float
+    z_out: float
+    wafers: tuple = ()
+
+    @property
+    def diff(self):
+        return abs(self.z_out - self.z_in)
+
+    @property
+    def bottom(self):
+        return min(self.z_in, self.z_out)
+
+    @property
+    def top(self):
+        return max(self.z_in, self.z_out)
+
+
+@dataclass(frozen=True)
+class WaferInterval:
+    """First and last scan position (ascending Z, unlatched) at which the beam meets a wafer."""
+
+    name: str
+    z_in: float | None
+    z_out: float | None
+
+    @property
+    def diff(self):
+        return None if self.z_in is None else self.z_out - self.z_in
+
+
+@dataclass(frozen=True)
+class ScanResult:
+    layout: object
+    engine: str
+    plan: SlotPlan
+    runs: tuple
+    wafers: tuple
+    slot_map: object
+    protrusions: tuple  # (wafer name, protrusion in mm) for the scanned carrier's wafers
+
+    @property
+    def code(self):
+        return self.slot_map.code
+
+    @property
+    def e87(self):
+        return self.slot_map.e87
+
+    def table_rows(self):
+        """Rows like the paper's Table 1: (slot, seat_z, wafers, z_in, z_out, diff, state).
+        A run is listed at the lowest slot it speaks for; an empty slot gets one blank row."""
+        listed = set()
+        rows = []
+        for slot in self.slot_map.slots:
+            own = [i for i in slot.runs if i not in listed]
+            listed.update(own)
+            state = STATE_NAMES[slot.state]
+            if not own:
+                rows.append((slot.slot, slot.seat_z, (), None, None, None, state))
+            for i in own:
+                run = self.runs[i]
+                rows.append((slot.slot, slot.seat_z, run.wafers, run.z_in, run.z_out, run.diff,
+                             state))
+        return rows
+
+
+def slot_plan(carrier, mapping):
+    """The nominal slots of a carrier with the layout's mapping tolerances."""
+    return SlotPlan(
+        slot_count=carrier.slot_count,
+        pitch=carrier.pitch,
+        first_slot_z=carrier.first_slot_z,
+        wafer_thickness=carrier.wafer_thickness,
+        thickness_tolerance=mapping.thickness_tolerance_for(carrier.wafer_thickness),
+        position_tolerance=mapping.position_tolerance,
+        protrusion_limit=mapping.protrusion_limit,
+    )
+
+
+def _window(plan):
+    return (plan.seat_z(1) - 0.5 * plan.pitch, plan.seat_z(plan.slot_count) + 0.5 * plan.pitch)
+
+
+def _stepped_intervals(hits, scan, window):
+    """Step intervals as (bottom, top) scan positions, clipped to the steps inside ``window``."""
+    if window is None:
+        k_lo, k_hi = 0, hits.count - 1
+    else:
+        k_lo = max(0, math.ceil((window[0] - scan.start_z) / scan.z_step))
+        k_hi = min(hits.count - 1, math.floor((window[1] - scan.start_z) / scan.z_step))
+
+    def clip(interval):
+        if interval is None or interval[1] < k_lo or interval[0] > k_hi:
+            return None
+        return (max(interval[0], k_lo), min(interval[1], k_hi))
+
+    def to_z(interval):
+        return None if interval is None else (scan.position(interval[0]), scan.position(interval[1]))
+
+    runs = [to_z(clip(r)) for r in hits.runs]
+    return [r for r in runs if r is not None], [to_z(clip(w)) for w in hits.wafer_steps]
+
+
+def _exact_intervals(hits, window):
+    def clip(interval):
+        if interval is None:
+            return None
+        if window is None:
+            return interval
+        if interval[1] < window[0] or interval[0] > window[1]:
+            return None
+        return (max(interval[0], window[0]), min(interval[1], window[1]))
+
+    runs = [clip(r) for r in hits.runs]
+    return [r for r in runs if r is not None], [clip(w) for w in hits.wafer_edges]
+
+
+def latch(bottom, top, scan):
+    """(IN, OUT) of a run as the sensor latches it in the scan's direction of motion."""
+    lag = scan.latch_lag
+    if scan.mode == SLOW or scan.direction == UP:
+        return bottom + lag, top + lag
+    if scan.direction == DOWN:
+        return top - lag, bottom - lag
+    assert scan.direction == UPDOWN
+    # Up stroke latches bottom + lag, down stroke bottom - lag: the mean cancels the lag.
+    return (0.5 * ((bottom + lag) + (bottom - lag)), 0.5 * ((top + lag) + (top - lag)))
+
+
+def protrusion(carrier, wafer):
+    """How far (mm) the wafer reaches out of the carrier's opening beyond a seated wafer."""
+    fx, fy = carrier.front
+    mx, my, _ = wafer.mid_center
+    nx, ny, nz = wafer.normal
+    along_front = nx * fx + ny * fy
+    reach = (mx - carrier.center[0]) * fx + (my - carrier.center[1]) * fy
+    reach += wafer.radius * math.sqrt(max(0.0, 1.0 - along_front * along_front))
+    return reach - 0.5 * carrier.wafer_diameter
+
+
+def _carrier_wafers(carrier, wafers):
+    """The wafers inside the carrier's footprint and slot range."""
+    r = 0.5 * carrier.wafer_diameter
+    z_lo = carrier.seat_z(1) - carrier.pitch
+    z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+    for wafer in wafers:
+        mx, my, mz = wafer.mid_center
+        if math.hypot(mx - carrier.center[0], my - carrier.center[1]) < r and z_lo <= mz <= z_hi:
+            yield wafer
+
+
+def protruding_slots(carrier, plan, wafers):
+    """Slots holding a wafer that sticks out beyond the protrusion limit, and every such wafer's
+    protrusion. Models a load port's protrusion sensor across the carrier's opening."""
+    slots = set()
+    found = []
+    for wafer in _carrier_wafers(carrier, wafers):
+        amount = protrusion(carrier, wafer)
+        found.append((wafer.name, amount))
+        if amount > plan.protrusion_limit:
+            (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
+            for slot in range(1, plan.slot_count + 1):
+                seat = plan.seat_z(slot)
+                if z0 - plan.position_tolerance <= seat <= z1:
+                    slots.add(slot)
+    return sorted(slots), tuple(found)
+
+
+def scan_layout(layout, engine="analytic", progress=None, plan=None):
+    """Scan the layout with the named engine and map the scanned carrier's slots.
+
+    ``plan`` overrides the nominal slots the mapping judges against (the MCS's parameters);
+    by default they come from the scanned carrier."""
+    scan = layout.scan
+    carrier = layout.scanned_carrier
+    if plan is None:
+        plan = slot_plan(carrier, layout.mapping)
+    hits = run_engine(engine, layout, progress)
+    window = _window(plan) if scan.mode == SLOW else None
+    if isinstance(hits, ExactHits):
+        run_spans, wafer_spans = _exact_intervals(hits, window)
+    else:
+        run_spans, wafer_spans = _stepped_intervals(hits, scan, window)
+    runs = []
+    for bottom, top in run_spans:
+        names = tuple(w.name for w, span in zip(layout.wafers, wafer_spans)
+                      if span is not None and span[0] <= top and span[1] >= bottom)
+        runs.append(SensorRun(*latch(bottom, top, scan), wafers=names))
+    wafers = tuple(WaferInterval(w.name, *(span if span is not None else (None, None)))
+                   for w, span in zip(layout.wafers, wafer_spans))
+    flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
+    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged)
+    return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions)

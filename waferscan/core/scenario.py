@@ -1,0 +1,388 @@
+"""Scenario files (TOML, SPEC §6): a layout described without CAD, for batch runs and tests.
+
+``read_scenario(path)`` returns a ``Layout``. Every mistake is an ``InputError`` that names the
+file, the line and the key. Physical construction of the ``load`` states:
+
+- present: a wafer on its slot's seat; double: two wafers stacked on the seat;
+- thin: a wafer of THIN_FACTOR times the nominal thickness;
+- misplaced (code 5): a wafer MISPLACED_RISE mm above its seat;
+- protruding: a wafer pushed PROTRUDING_SHIFT mm out of the carrier's opening;
+- cross ("22"): a wafer resting on the left support of one slot and the right support of the
+  slot above. Its bottom face runs through the two supports' inner edges, ``support_span``
+  apart, so it is tilted about the front axis by atan(pitch / support_span).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from pathlib import Path
+
+from . import schema
+from .errors import InputError
+from .model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer, unit
+
+THIN_FACTOR = 0.25
+MISPLACED_RISE = 2.0
+PROTRUDING_SHIFT = 5.0
+# By default the slot supports reach this far (mm) under the wafer's rim on each side.
+SUPPORT_OVERLAP = 3.75
+
+LOAD_DIGITS = {"0": "absent", "1": "present", "3": "double", "4": "thin", "5": "misplaced",
+               "6": "protruding"}
+WAFER_STATES = ("present", "cross", "double", "thin", "misplaced", "protruding", "absent")
+
+_TABLES = {"scan", "sensor", "robot", "mapping", "carrier", "wafer"}
+_ARRAY_TABLES = {"carrier", "wafer"}
+_HEADER = re.compile(r"^\s*(\[\[?)\s*([A-Za-z0-9_.\-\"' ]+?)\s*(\]\]?)\s*(#.*)?$")
+_KEY = re.compile(r"^\s*([A-Za-z0-9_\-]+|\"[^\"]*\")\s*=")
+
+
+class _Lines:
+    """Where each table and key of a TOML file starts, for error messages. tomllib gives values
+    without positions; this scan of the raw lines is enough for the flat tables scenarios use."""
+
+    def __init__(self, text):
+        self.keys = {}
+        self.tables = {}
+        counters = {}
+        table, index = None, None
+        in_string = False
+        for number, line in enumerate(text.splitlines(), start=1):
+            if line.count('"""') % 2 == 1 or line.count("'''") % 2 == 1:
+                in_string = not in_string
+                continue
+            if in_string:
+                continue
+            header = _HEADER.match(line)
+            if header:
+                table = header.group(2).strip()
+                if header.group(1) == "[[":
+                    index = counters.get(table, 0)
+                    counters[table] = index + 1
+                else:
+                    index = None
+                self.tables.setdefault((table, index), number)
+                continue
+            key = _KEY.match(line)
+            if key:
+                self.keys.setdefault((table, index, key.group(1).strip('"')), number)
+
+    def of(self, table, index=None, key=None):
+        if key is not None and (table, index, key) in self.keys:
+            return self.keys[(table, index, key)]
+        return self.tables.get((table, index))
+
+
+class _Reader:
+    def __init__(self, source, text):
+        self.source = source
+        self.lines = _Lines(text)
+
+    def error(self, message, table=None, index=None, key=None):
+        where = f"[{table}] " if table and index is None else (
+            f"[[{table}]] #{index + 1} " if table else "")
+        what = f"{key}: " if key else ""
+        return InputError(self.source, self.lines.of(table, index, key), f"{where}{what}{message}")
+
+    def table(self, data, table, allowed, index=None):
+        """Check that a table has only allowed keys; return it."""
+        for key in data:
+            if key not in allowed:
+                raise self.error(f"unknown key (known: {', '.join(sorted(allowed))})",
+                                 table, index, key)
+        return data
+
+    def value(self, data, table, key, check, index=None, default=None, required=False):
+        if key not in data:
+            if required:
+                raise self.error(f"missing key {key!r}", table, index)
+            return default
+        try:
+            return check(data[key])
+        except ValueError as exc:
+            raise self.error(str(exc), table, index, key) from None
+
+
+def read_scenario(path):
+    """Read a scenario file into a ``Layout``."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(path, None, f"cannot read the scenario: {exc.strerror}") from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise InputError(path, line, "not UTF-8 text") from None
+    return parse_scenario(text, str(path))
+
+
+def parse_scenario(text, source="<scenario>"):
+    """Parse scenario text into a ``Layout``; ``source`` names it in error messages."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
+        line = int(match.group(1)) if match else None
+        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
+        raise InputError(source, line, f"not valid TOML: {message}") from None
+    reader = _Reader(source, text)
+    for key, value in data.items():
+        if key not in _TABLES:
+            raise reader.error(f"unknown table or key {key!r} (known tables: "
+                               f"{', '.join(sorted(_TABLES))})", key if isinstance(value, (dict, list)) else None,
+                               key=None if isinstance(value, (dict, list)) else key)
+        if key in _ARRAY_TABLES and not (isinstance(value, list)
+                                         and all(isinstance(v, dict) for v in value)):
+            raise reader.error(f"write it as [[{key}]] tables", key)
+        if key not in _ARRAY_TABLES and not isinstance(value, dict):
+            raise reader.error(f"write it as a [{key}] table", key=key)
+
+    carriers = [_carrier(reader, c, i) for i, c in enumerate(data.get("carrier", []))]
+    if not carriers:
+        raise InputError(source, None, "no [[carrier]] table: a scenario needs a carrier")
+    names = [c.name for c in carriers]
+    for i, name in enumerate(names):
+        if name in names[:i]:
+            raise reader.error(f"a second carrier named {name!r}", "carrier", i, "name")
+
+    beam, scan = _beam_and_scan(reader, data)
+    mapping_data = reader.table(data.get("mapping", {}), "mapping", schema.MAPPING_KEYS)
+    mapping = MappingTolerances(**{k: reader.value(mapping_data, "mapping", k, check,
+                                                   default=getattr(MappingTolerances(), k))
+                                   for k, check in schema.MAPPING_KEYS.items()})
+    scan_table = data.get("scan", {})
+    chosen = reader.value(scan_table, "scan", "carrier", schema.name)
+    if chosen is None:
+        if len(carriers) > 1:
+            raise reader.error(f"several carriers ({', '.join(names)}): say which one to scan "
+                               "with carrier = \"NAME\"", "scan")
+        chosen = carriers[0].name
+    elif chosen not in names:
+        raise reader.error(f"no carrier named {chosen!r} (carriers: {', '.join(names)})",
+                           "scan", key="carrier")
+
+    lift_axis = (0.0, 0.0, 1.0)
+    sensor = data.get("sensor", {})
+    if "lift_axis" in sensor:
+        lift_axis = reader.value(sensor, "sensor", "lift_axis", schema.vector(3, nonzero=True))
+        lift_axis = unit(lift_axis)
+        if lift_axis[2] < 0.1:
+            raise reader.error("the lift axis must point upwards (z component > 0.1 after "
+                               "normalising)", "sensor", key="lift_axis")
+
+    wafers = _wafers(reader, data, carriers)
+    return Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
+                  lift_axis=lift_axis, mapping=mapping, carrier=chosen)
+
+
+_CARRIER_KEYS = {"name", "slots", "pitch", "first_slot_z", "center", "wafer_diameter",
+                 "wafer_thickness", "load", "front", "support_span"}
+
+
+def _carrier(reader, data, i):
+    reader.table(data, "carrier", _CARRIER_KEYS, i)
+
+    def get(key, check, **kw):
+        return reader.value(data, "carrier", key, check, index=i, **kw)
+
+    name = get("name", schema.name, default=f"C{i + 1}")
+    slots = get("slots", schema.count, default=25)
+    pitch = get("pitch", schema.positive, default=10.0)
+    diameter = get("wafer_diameter", schema.positive, default=300.0)
+    thickness = get("wafer_thickness", schema.positive, default=0.775)
+    if thickness >= pitch:
+        raise reader.error(f"wafer_thickness {thickness:g} must be less than the pitch "
+                           f"{pitch:g}", "carrier", i, "wafer_thickness")
+    front = get("front", schema.vector(2, nonzero=True), default=(0.0, -1.0))
+    norm = math.hypot(*front)
+    support_span = get("support_span", schema.positive, default=diameter - 2 * SUPPORT_OVERLAP)
+    if support_span > diameter:
+        raise reader.error(f"support_span {support_span:g} is wider than the wafer "
+                           f"({diameter:g}): the wafer would fall through", "carrier", i,
+                           "support_span")
+    return Carrier(
+        name=name, slot_count=slots, pitch=pitch,
+        first_slot_z=get("first_slot_z", schema.number, required=True),
+        center=get("center", schema.vector(2), required=True),
+        wafer_diameter=diameter, wafer_thickness=thickness,
+        front=(front[0] / norm, front[1] / norm), support_span=support_span,
+    )
+
+
+_SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"}
+
+
+def _beam_and_scan(reader, data):
+    if "robot" in data and "sensor" not in data:
+        raise reader.error("a [robot] scenario needs the robot support of the CAD layer, "
+                           "which is not there yet: give the beam in a [sensor] table", "robot")
+    if "sensor" not in data:
+        raise InputError(reader.source, None, "no [sensor] table: a scenario needs the beam")
+    sensor = reader.table(data["sensor"], "sensor", _SENSOR_KEYS)
+    scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"})
+
+    emitter = sensor.get("emitter")
+    if not isinstance(emitter, list) or len(emitter) not in (2, 3):
+        raise reader.error("expected [x, y] or [x, y, z] in mm", "sensor", key="emitter") \
+            if "emitter" in sensor else reader.error("missing key 'emitter'", "sensor")
+    emitter = reader.value(sensor, "sensor", "emitter", schema.vector(len(emitter)))
+    direction = reader.value(sensor, "sensor", "direction", schema.vector(3, nonzero=True),
+                             required=True)
+    length = reader.value(sensor, "sensor", "length", schema.positive, required=True)
+
+    values = {k: reader.value(scan_data, "scan", k, check) for k, check in schema.SCAN_KEYS.items()}
+    start_z = values["start_z"]
+    if len(emitter) == 3:
+        if start_z is None:
+            start_z = emitter[2]
+        elif abs(start_z - emitter[2]) > 1e-9:
+            raise reader.error(f"start_z {start_z:g} differs from the emitter's z "
+                               f"{emitter[2]:g}: give one, or both equal", "scan", key="start_z")
+    elif start_z is None:
+        raise reader.error("give the emitter's z, or start_z in [scan]", "sensor", key="emitter")
+    if values["final_z"] is None:
+        raise reader.error("missing key 'final_z'", "scan")
+    values["start_z"] = start_z
+    scan = ScanParameters(**{k: v for k, v in values.items() if v is not None})
+    try:
+        schema.check_scan_range(scan.start_z, scan.final_z, scan.z_step)
+    except ValueError as exc:
+        raise reader.error(str(exc), "scan", key="final_z") from None
+    beam = Beam(emitter=(emitter[0], emitter[1], start_z), direction=unit(direction),
+                length=length)
+    return beam, scan
+
+
+def _load_states(reader, carrier, text, i):
+    """Per-slot wafer states from a load string: {slot: state}; "22" is one cross wafer."""
+    if not isinstance(text, str) or len(text) != carrier.slot_count:
+        raise reader.error(f"expected a string of {carrier.slot_count} digits (one per slot), "
+                           f"got {text!r}", "carrier", i, "load")
+    states = {}
+    slot = 1
+    while slot <= carrier.slot_count:
+        digit = text[slot - 1]
+        if digit == "2":
+            if slot == carrier.slot_count or text[slot] != "2":
+                raise reader.error(f"slot {slot}: a cross-slotted wafer spans two slots and is "
+                                   f"written 22, got {text!r}", "carrier", i, "load")
+            states[slot] = "cross"
+            slot += 2
+            continue
+        if digit not in LOAD_DIGITS:
+            raise reader.error(f"slot {slot}: {digit!r} is not a slot state (0-6)", "carrier",
+                               i, "load")
+        states[slot] = LOAD_DIGITS[digit]
+        slot += 1
+    return states
+
+
+def seated_wafers(carrier, slot, state, first_index):
+    """The wafer solids a slot holds in a given state (see the module's docstring)."""
+    cx, cy = carrier.center
+    seat = carrier.seat_z(slot)
+    t, d = carrier.wafer_thickness, carrier.wafer_diameter
+    up = (0.0, 0.0, 1.0)
+
+    def wafer(k, center, normal=up, thickness=t):
+        return Wafer(name=f"{carrier.name}_W{first_index + k:02d}", center=center, normal=normal,
+                     diameter=d, thickness=thickness, carrier=carrier.name, slot=slot)
+
+    if state == "absent":
+        return []
+    if state == "present":
+        return [wafer(0, (cx, cy, seat))]
+    if state == "double":
+        return [wafer(0, (cx, cy, seat)), wafer(1, (cx, cy, seat + t))]
+    if state == "thin":
+        return [wafer(0, (cx, cy, seat), thickness=THIN_FACTOR * t)]
+    if state == "misplaced":
+        return [wafer(0, (cx, cy, seat + MISPLACED_RISE))]
+    if state == "protruding":
+        fx, fy = carrier.front
+        return [wafer(0, (cx + PROTRUDING_SHIFT * fx, cy + PROTRUDING_SHIFT * fy, seat))]
+    if state == "cross":
+        slope = carrier.pitch / carrier.support_span
+        s = slope / math.sqrt(1.0 + slope * slope)
+        c = 1.0 / math.sqrt(1.0 + slope * slope)
+        lx, ly = carrier.lateral
+        return [wafer(0, (cx, cy, seat + 0.5 * carrier.pitch), (-s * lx, -s * ly, c))]
+    raise ValueError(f"unknown wafer state {state!r}")
+
+
+_WAFER_KEYS = {"carrier", "slot", "state", "name", "center", "normal", "diameter", "thickness"}
+
+
+def _wafers(reader, data, carriers):
+    by_name = {c.name: c for c in carriers}
+    plans = {c.name: {} for c in carriers}  # carrier -> {slot: state}
+    for i, c in enumerate(carriers):
+        raw = data["carrier"][i]
+        if "load" in raw:
+            plans[c.name] = _load_states(reader, c, raw["load"], i)
+    free = []
+    for i, w in enumerate(data.get("wafer", [])):
+        reader.table(w, "wafer", _WAFER_KEYS, i)
+        if "slot" in w or "state" in w:
+            carrier_name = reader.value(w, "wafer", "carrier", schema.name, index=i,
+                                        default=carriers[0].name if len(carriers) == 1 else None)
+            if carrier_name is None:
+                raise reader.error("several carriers: say which with carrier = \"NAME\"",
+                                   "wafer", i)
+            if carrier_name not in by_name:
+                raise reader.error(f"no carrier named {carrier_name!r}", "wafer", i, "carrier")
+            carrier = by_name[carrier_name]
+            slot = reader.value(w, "wafer", "slot", schema.count, index=i, required=True)
+            if slot > carrier.slot_count:
+                raise reader.error(f"slot {slot} is beyond the carrier's {carrier.slot_count} "
+                                   "slots", "wafer", i, "slot")
+            state = reader.value(w, "wafer", "state", schema.choice(WAFER_STATES), index=i,
+                                 default="present")
+            if state == "cross" and slot == carrier.slot_count:
+                raise reader.error(f"a cross-slotted wafer in slot {slot} needs a slot above",
+                                   "wafer", i, "slot")
+            for key in ("center", "normal", "diameter", "thickness", "name"):
+                if key in w:
+                    raise reader.error("give either carrier + slot + state, or a free "
+                                       "placement (center, normal, diameter, thickness)",
+                                       "wafer", i, key)
+            plan = plans[carrier_name]
+            # An explicit wafer replaces what the load string put in its slot(s).
+            for other, other_state in list(plan.items()):
+                if other == slot or (other_state == "cross" and other + 1 == slot) or (
+                        state == "cross" and other == slot + 1):
+                    del plan[other]
+            plan[slot] = state
+            continue
+        name = reader.value(w, "wafer", "name", schema.name, index=i, default=f"W{i + 1}")
+        center = reader.value(w, "wafer", "center", schema.vector(3), index=i, required=True)
+        normal = unit(reader.value(w, "wafer", "normal", schema.vector(3, nonzero=True), index=i,
+                                   default=(0.0, 0.0, 1.0)))
+        carrier_name = reader.value(w, "wafer", "carrier", schema.name, index=i)
+        if carrier_name is not None and carrier_name not in by_name:
+            raise reader.error(f"no carrier named {carrier_name!r}", "wafer", i, "carrier")
+        default = by_name[carrier_name] if carrier_name else carriers[0]
+        free.append(Wafer(
+            name=name, center=center, normal=normal,
+            diameter=reader.value(w, "wafer", "diameter", schema.positive, index=i,
+                                  default=default.wafer_diameter),
+            thickness=reader.value(w, "wafer", "thickness", schema.positive, index=i,
+                                   default=default.wafer_thickness),
+            carrier=carrier_name))
+    wafers = []
+    for carrier in carriers:
+        index = 1
+        for slot in sorted(plans[carrier.name]):
+            made = seated_wafers(carrier, slot, plans[carrier.name][slot], index)
+            wafers += made
+            index += len(made)
+    names = {w.name for w in wafers}
+    for i, w in enumerate(free):
+        if w.name in names:
+            raise reader.error(f"a second wafer named {w.name!r}", "wafer", i, "name")
+        names.add(w.name)
+    return wafers + free

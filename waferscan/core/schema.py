@@ -1,0 +1,113 @@
+"""Checks for the values a user gives, shared by the scenario format and parameters.txt.
+
+Each check takes the raw value (a TOML value, or the text after ``=`` in parameters.txt) and
+returns the clean value or raises ValueError with a message that says what was expected; the
+reader that called it adds the file and line.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .model import DIRECTIONS, MODES
+
+# A scan is at most this many stepped positions (0.001 mm over 100 m); more is a typo.
+MAX_POSITIONS = 100_000_000
+
+
+def _as_number(value):
+    if isinstance(value, bool):
+        raise ValueError(f"expected a number, got {value!r}")
+    if isinstance(value, (int, float)):
+        number = float(value)
+    elif isinstance(value, str):
+        try:
+            number = float(value.strip())
+        except ValueError:
+            raise ValueError(f"expected a number, got {value.strip()!r}") from None
+    else:
+        raise ValueError(f"expected a number, got {value!r}")
+    if not math.isfinite(number):
+        raise ValueError(f"expected a finite number, got {value!r}")
+    return number
+
+
+def number(value):
+    return _as_number(value)
+
+
+def positive(value):
+    x = _as_number(value)
+    if x <= 0.0:
+        raise ValueError(f"must be greater than 0, got {value!r}")
+    return x
+
+
+def non_negative(value):
+    x = _as_number(value)
+    if x < 0.0:
+        raise ValueError(f"must not be negative, got {value!r}")
+    return x
+
+
+def count(value):
+    """A whole number of at least 1 (a slot count)."""
+    x = _as_number(value)
+    if x != math.floor(x) or x < 1 or x > 10_000:
+        raise ValueError(f"expected a whole number from 1 to 10000, got {value!r}")
+    return int(x)
+
+
+def name(value):
+    if not isinstance(value, str) or not value.strip():
+        raise ValueError(f"expected a name, got {value!r}")
+    return value.strip()
+
+
+def choice(options):
+    def check(value):
+        text = value.strip().lower() if isinstance(value, str) else value
+        if text not in options:
+            raise ValueError(f"expected one of {', '.join(options)}, got {value!r}")
+        return text
+    return check
+
+
+def vector(size, nonzero=False):
+    def check(value):
+        if not isinstance(value, (list, tuple)) or len(value) != size:
+            raise ValueError(f"expected a list of {size} numbers, got {value!r}")
+        items = tuple(_as_number(v) for v in value)
+        if nonzero and not any(items):
+            raise ValueError(f"must not be the zero vector, got {list(value)}")
+        return items
+    return check
+
+
+# Scan parameters: the same keys in a scenario's [scan] table and in parameters.txt.
+SCAN_KEYS = {
+    "start_z": number,
+    "final_z": number,
+    "z_step": non_negative,
+    "mode": choice(MODES),
+    "direction": choice(DIRECTIONS),
+    "scan_speed": positive,
+    "sensor_response": non_negative,
+}
+
+# Mapping tolerances: a scenario's [mapping] table and parameters.txt.
+MAPPING_KEYS = {
+    "thickness_tolerance": non_negative,
+    "position_tolerance": non_negative,
+    "protrusion_limit": non_negative,
+}
+
+
+def check_scan_range(start_z, final_z, z_step):
+    """Raise ValueError unless the scan's range and step make a sensible scan."""
+    if final_z < start_z:
+        raise ValueError(f"final_z ({final_z:g}) is below start_z ({start_z:g})")
+    if z_step > 0.0 and (final_z - start_z) / z_step + 1 > MAX_POSITIONS:
+        positions = int((final_z - start_z) / z_step) + 1
+        raise ValueError(f"z_step {z_step:g} over {final_z - start_z:g} mm makes {positions:,} "
+                         f"positions; at most {MAX_POSITIONS:,} (use z_step = 0 for exact edges)")
