@@ -29,6 +29,10 @@ E87 = {EMPTY: 1, PRESENT: 3, CROSS: 5, DOUBLE: 4, THIN: 2, POSITION_ERROR: 2, PR
 # When several findings land on one slot the worst one is reported.
 _SEVERITY = (EMPTY, PRESENT, THIN, POSITION_ERROR, DOUBLE, CROSS, PROTRUDING)
 
+# Limits are inclusive up to this much (mm), so that a length or offset that equals a limit is
+# not pushed across it by rounding (113.85 - 113.5 != 0.35 in binary floating point).
+LIMIT_SLACK = 1e-9
+
 
 @dataclass(frozen=True)
 class SlotPlan:
@@ -78,17 +82,18 @@ def judge_run(plan, bottom, top):
     t = plan.wafer_thickness
     dt = plan.thickness_tolerance
     length = top - bottom
-    if length > 2.0 * t + dt:
+    eps = LIMIT_SLACK
+    if length > 2.0 * t + dt + eps:
         middle = 0.5 * (bottom + top)
         lower = int(math.floor((middle - plan.first_slot_z) / plan.pitch)) + 1
         found = [(lower, CROSS), (lower + 1, CROSS)]
     else:
         slot = _nearest_slot(plan, bottom)
-        if abs(bottom - plan.seat_z(slot)) > plan.position_tolerance:
+        if abs(bottom - plan.seat_z(slot)) > plan.position_tolerance + eps:
             state = POSITION_ERROR
-        elif length < t - dt:
+        elif length < t - dt - eps:
             state = THIN
-        elif length <= t + dt:
+        elif length <= t + dt + eps:
             state = PRESENT
         else:
             state = DOUBLE
