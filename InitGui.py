@@ -1,0 +1,24 @@
+# WaferScan: run by FreeCAD's GUI at start-up with exec() inside a function. Names bound at the
+# top of this file are not visible inside the class's methods (FreeCAD 0.20 quirk), so the
+# methods import what they use themselves.
+import FreeCADGui
+import waferscan.addon
+
+
+class WaferScanWorkbench(FreeCADGui.Workbench):
+    """The WaferScan workbench: wafer-scanning simulation in a CAD assembly."""
+
+    MenuText = "WaferScan"
+    ToolTip = "Simulate wafer scanning (wafer mapping) with a through-beam sensor"
+
+    def Initialize(self):
+        """Called once, when the workbench is first activated."""
+        self.appendToolbar("WaferScan", [])
+        self.appendMenu("&WaferScan", [])
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+WaferScanWorkbench.Icon = waferscan.addon.icon_path()
+FreeCADGui.addWorkbench(WaferScanWorkbench())
