@@ -1,0 +1,21 @@
+# WaferScan: `make demo` and `make test` on a fresh Debian bookworm machine.
+# `make setup` (run by both) installs what is missing and is quick when nothing is.
+
+SHELL := /bin/bash
+VENV := .venv
+
+.PHONY: setup demo test clean
+
+setup:
+	./scripts/setup.sh
+
+demo: setup
+	$(VENV)/bin/waferscan demo --out build/demo
+
+test: setup
+	$(VENV)/bin/python -m pytest tests -q
+
+# Removes what the build made here; the Mod link and system packages stay.
+clean:
+	rm -rf $(VENV) build test-artifacts .pytest_cache *.egg-info
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Set up WaferScan on Debian bookworm: system packages, the project's venv, FreeCAD's modules
+# in that venv, and the addon's link in FreeCAD's user Mod folder. Safe to run again: each step
+# is skipped when its result is already in place.
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+root=$(pwd -P)
+venv="$root/.venv"
+python=/usr/bin/python3        # FreeCAD is built against Debian's Python: the venv must use it too
+
+say() { printf 'setup: %s\n' "$*"; }
+
+# 1. System packages (apt only when something is missing).
+missing=()
+command -v freecadcmd >/dev/null 2>&1 || missing+=(freecad-python3)
+command -v xvfb-run >/dev/null 2>&1 || missing+=(xvfb)
+command -v xauth >/dev/null 2>&1 || missing+=(xauth)
+dpkg-query -W -f='${Status}' python3-venv 2>/dev/null | grep -q 'install ok installed' \
+  || missing+=(python3-venv)
+if ((${#missing[@]})); then
+  say "installing system packages (missing: ${missing[*]})"
+  sudo=()
+  [ "$(id -u)" -eq 0 ] || sudo=(sudo)
+  "${sudo[@]}" apt-get update
+  "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+    freecad-python3 python3-venv xvfb xauth
+fi
+
+# 2. Ask FreeCAD where its Python modules and its user data folder are (one start-up).
+fc_info=$(freecadcmd -c "import os, FreeCAD, Part
+print('WS_LIB=' + os.path.dirname(Part.__file__))
+print('WS_USER=' + FreeCAD.getUserAppDataDir())" 2>/dev/null) || true
+fc_lib=$(sed -n 's/^WS_LIB=//p' <<<"$fc_info")
+fc_user=$(sed -n 's/^WS_USER=//p' <<<"$fc_info")
+if [ -z "$fc_lib" ] || [ -z "$fc_user" ]; then
+  say "error: freecadcmd did not report its module folder and user folder:" >&2
+  printf '%s\n' "$fc_info" >&2
+  exit 1
+fi
+
+# 3. The venv. --system-site-packages: it sees Debian's PySide2, pivy and FreeCAD's dependencies.
+if [ ! -x "$venv/bin/python" ]; then
+  say "creating $venv"
+  "$python" -m venv --system-site-packages "$venv"
+fi
+site_packages=$("$venv/bin/python" -c "import sysconfig; print(sysconfig.get_paths()['purelib'])")
+
+# 4. The package (editable) with its pinned dependencies; redone only when pyproject.toml changes.
+stamp="$venv/.waferscan-install.stamp"
+want=$(sha256sum pyproject.toml | cut -d' ' -f1)
+if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+  say "installing waferscan (editable) and its dependencies into the venv"
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -e '.[dev]'
+  printf '%s\n' "$want" >"$stamp"
+fi
+
+# 5. FreeCAD's modules in the venv's Python: `import FreeCAD, Part` works there.
+pth="$site_packages/freecad.pth"
+if [ "$(cat "$pth" 2>/dev/null)" != "$fc_lib" ]; then
+  say "adding $fc_lib to the venv ($pth)"
+  printf '%s\n' "$fc_lib" >"$pth"
+fi
+
+# 6. The addon in FreeCAD's user Mod folder, as a link to this checkout.
+link="${fc_user%/}/Mod/WaferScan"
+if [ "$(readlink "$link" 2>/dev/null)" != "$root" ]; then
+  if [ -e "$link" ] && [ ! -L "$link" ]; then
+    say "error: $link exists and is not a link; move it away and run again" >&2
+    exit 1
+  fi
+  say "linking $link -> $root"
+  mkdir -p "$(dirname "$link")"
+  ln -sfn "$root" "$link"
+fi
+
+say "ready (venv: $venv, addon: $link)"
