@@ -9,7 +9,9 @@ import os
 import site
 import sys
 
-ADDON_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# realpath: FreeCAD may import the package through the Mod folder's link to the checkout; the
+# addon has one canonical location either way.
+ADDON_ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 
 
 def addon_root():

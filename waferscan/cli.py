@@ -11,6 +11,7 @@ import json
 import sys
 from pathlib import Path
 
+from .addon import addon_root
 from .core import report
 from .core.engines import ENGINES
 from .core.errors import InputError
@@ -23,13 +24,9 @@ from .core.scenario import read_scenario
 PROG = "waferscan"
 
 
-def resources_dir():
-    """The addon's resources folder (the package sits beside it in the checkout)."""
-    return Path(__file__).resolve().parent.parent / "resources"
-
-
 def paper_scenario():
-    return resources_dir() / "examples" / "paper.toml"
+    """The paper's experiment as a scenario file (resources/examples/paper.toml)."""
+    return Path(addon_root()) / "resources" / "examples" / "paper.toml"
 
 
 class _Progress:
