@@ -1,0 +1,72 @@
+"""A wafer's centre, normal, diameter and thickness read off its solid: a Part::Cylinder, a
+PartDesign body, an imported STEP solid. Anything that is not a solid disc is refused."""
+
+from __future__ import annotations
+
+import math
+
+import Part
+
+ANGLE_TOLERANCE = 1e-9  # on unit vectors: sines and cosines
+VOLUME_TOLERANCE = 1e-6  # relative
+
+
+class NotADisc(ValueError):
+    """The shape is not a solid disc; the message says why."""
+
+
+def _unit(v):
+    n = v.Length
+    return v * (1.0 / n)
+
+
+def disc_of(shape):
+    """(center, normal, diameter, thickness) of a solid disc, in the shape's placed coordinates.
+    ``center`` is the centre of the bottom face and ``normal`` points through the thickness,
+    upwards (positive Z) when the disc is not standing on edge."""
+    solids = shape.Solids
+    if len(solids) != 1:
+        raise NotADisc(f"expected one solid, found {len(solids)}")
+    solid = solids[0]
+    cylinders, planes = [], []
+    for face in solid.Faces:
+        surface = face.Surface
+        if isinstance(surface, Part.Cylinder):
+            cylinders.append(surface)
+        elif isinstance(surface, Part.Plane):
+            planes.append(face)
+        else:
+            raise NotADisc(f"has a {type(surface).__name__} face; a disc has only a "
+                           "cylindrical rim and two flat faces")
+    if not cylinders:
+        raise NotADisc("has no cylindrical rim")
+    axis = _unit(cylinders[0].Axis)
+    radius = cylinders[0].Radius
+    origin = cylinders[0].Center
+    for other in cylinders[1:]:  # a rim split at its seam is still one rim
+        offset = other.Center - origin
+        if (abs(abs(_unit(other.Axis).dot(axis)) - 1.0) > ANGLE_TOLERANCE
+                or abs(other.Radius - radius) > 1e-9 * max(1.0, radius)
+                or (offset - axis * offset.dot(axis)).Length > 1e-7):
+            raise NotADisc("has cylindrical faces about different axes or of different radii")
+    if len(planes) != 2:
+        raise NotADisc(f"has {len(planes)} flat faces; a disc has two")
+    heights = []
+    for face in planes:
+        if abs(abs(_unit(face.Surface.Axis).dot(axis)) - 1.0) > ANGLE_TOLERANCE:
+            raise NotADisc("a flat face is not square to the rim's axis")
+        heights.append((face.Surface.Position - origin).dot(axis))
+    low, high = min(heights), max(heights)
+    thickness = high - low
+    if thickness <= 0.0:
+        raise NotADisc("its two flat faces coincide")
+    expected = math.pi * radius * radius * thickness
+    if abs(solid.Volume - expected) > VOLUME_TOLERANCE * expected:
+        raise NotADisc(f"its volume {solid.Volume:.6g} mm^3 is not that of a full disc of "
+                       f"diameter {2 * radius:.6g} mm and thickness {thickness:.6g} mm "
+                       f"({expected:.6g} mm^3)")
+    if axis.z < 0.0 or (axis.z == 0.0 and (axis.y < 0.0 or (axis.y == 0.0 and axis.x < 0.0))):
+        axis = -axis
+        low, high = -high, -low
+    center = origin + axis * low
+    return ((center.x, center.y, center.z), (axis.x, axis.y, axis.z), 2.0 * radius, thickness)

@@ -1,0 +1,142 @@
+"""The document objects WaferScan builds: a carrier body with slot supports, the scanner's beam
+and the scan settings. Each is a FeaturePython whose proxy only rebuilds its shape from its
+properties; everything it knows lives in properties, so it survives save and reload.
+
+Proxy state, FreeCAD quirk: 0.20 saves a proxy through ``__getstate__``/``__setstate__``, 0.21
+and later prefer ``dumps``/``loads``. Both are defined here, once, in ``_Proxy``.
+"""
+
+from __future__ import annotations
+
+import FreeCAD as App
+import Part
+
+from ..core.model import DIRECTIONS, MODES
+from . import roles
+
+
+class _Proxy:
+    """Base of WaferScan's feature proxies: nothing but a type to save."""
+
+    def __init__(self, obj):
+        obj.Proxy = self
+
+    def dumps(self):
+        return {"type": type(self).__name__}
+
+    def loads(self, state):
+        return None
+
+    __getstate__ = dumps
+    __setstate__ = loads
+
+    def onDocumentRestored(self, obj):
+        obj.Proxy = self
+
+
+def carrier_solids(slot_count, pitch, wafer_diameter, support_span):
+    """A FOUP-like body in the carrier's frame (origin at slot 1's seat centre, X across, -Y out
+    of the opening, Z up): side walls, back wall, floor, roof, and a left and a right support
+    ledge under every slot whose inner edges are ``support_span`` apart."""
+    r = wafer_diameter / 2.0
+    wall = 4.0
+    inner = r + 6.0  # wall to wafer rim clearance: 6 mm
+    front, back = -r - 5.0, r + 10.0
+    bottom, top = -pitch - wall, (slot_count - 1) * pitch + pitch
+    height = top - bottom
+    boxes = [
+        Part.makeBox(wall, back - front, height, App.Vector(-inner - wall, front, bottom)),
+        Part.makeBox(wall, back - front, height, App.Vector(inner, front, bottom)),
+        Part.makeBox(2 * (inner + wall), wall, height, App.Vector(-inner - wall, back, bottom)),
+        Part.makeBox(2 * (inner + wall), back - front + wall, wall,
+                     App.Vector(-inner - wall, front, bottom)),
+        Part.makeBox(2 * (inner + wall), back - front + wall, wall,
+                     App.Vector(-inner - wall, front, top)),
+    ]
+    ledge_depth, ledge_thickness = 1.1 * r, 1.5
+    ledge_width = inner - support_span / 2.0
+    for slot in range(slot_count):
+        seat = slot * pitch
+        for x in (-inner, support_span / 2.0):
+            boxes.append(Part.makeBox(ledge_width, ledge_depth, ledge_thickness,
+                                      App.Vector(x, -ledge_depth / 2.0, seat - ledge_thickness)))
+    return Part.makeCompound(boxes)
+
+
+class CarrierBody(_Proxy):
+    """A carrier (FOUP or cassette) whose shape follows its slot properties."""
+
+    def execute(self, obj):
+        obj.Shape = carrier_solids(obj.SlotCount, float(obj.Pitch), float(obj.WaferDiameter),
+                                   float(obj.SupportSpan))
+
+
+class ScannerBeam(_Proxy):
+    """The through-beam: a thin rod from emitter to receiver with a small head at each end."""
+
+    def execute(self, obj):
+        emitter, receiver = App.Vector(obj.Emitter), App.Vector(obj.Receiver)
+        direction = receiver - emitter
+        length = direction.Length
+        if length == 0.0:
+            obj.Shape = Part.Shape()
+            return
+        direction.normalize()
+        rod = Part.makeCylinder(0.4, length, emitter, direction)
+        heads = [Part.makeSphere(3.0, p) for p in (emitter, receiver)]
+        obj.Shape = Part.makeCompound([rod] + heads)
+
+
+class ScanSettings(_Proxy):
+    """The scan's parameters and mapping tolerances, stored in the document."""
+
+
+def make_carrier(doc, name, slot_count, pitch, wafer_diameter, wafer_thickness, support_span):
+    obj = doc.addObject("Part::FeaturePython", "Carrier")
+    obj.Label = name
+    CarrierBody(obj)
+    roles.tag_carrier(obj, slot_count, pitch, wafer_diameter, wafer_thickness, support_span)
+    return obj
+
+
+def make_scanner(doc, length, lift_axis=(0.0, 0.0, 1.0)):
+    """A scanner whose beam runs along its local +X from its origin, ``length`` long."""
+    obj = doc.addObject("Part::FeaturePython", "Scanner")
+    ScannerBeam(obj)
+    roles.tag_scanner(obj, (0.0, 0.0, 0.0), (length, 0.0, 0.0), lift_axis)
+    return obj
+
+
+SETTINGS_PROPERTIES = (
+    # (property, kind, scan or mapping field, tooltip)
+    ("StartZ", "App::PropertyDistance", "start_z", "Scan position (emitter Z) of the first step"),
+    ("FinalZ", "App::PropertyDistance", "final_z", "Scan position of the last step"),
+    ("ZStep", "App::PropertyLength", "z_step", "Step between scan positions; 0 for exact edges"),
+    ("ScanSpeed", "App::PropertySpeed", "scan_speed", "Speed of a fast scan"),
+    ("SensorResponse", "App::PropertyFloat", "sensor_response", "Sensor response time in s"),
+    ("PositionTolerance", "App::PropertyLength", "position_tolerance", "Slot position tolerance"),
+    ("ProtrusionLimit", "App::PropertyLength", "protrusion_limit", "Protrusion limit"),
+)
+
+
+def make_settings(doc, scan, mapping, carrier):
+    """The scan settings object, filled from core ScanParameters and MappingTolerances."""
+    obj = doc.addObject("App::FeaturePython", "ScanSettings")
+    ScanSettings(obj)
+    roles.set_role(obj, roles.SETTINGS)
+    for prop, kind, field, tip in SETTINGS_PROPERTIES:
+        source = mapping if hasattr(mapping, field) else scan
+        roles.add_property(obj, kind, prop, tip, getattr(source, field))
+    roles.add_property(obj, "App::PropertyEnumeration", "Mode", "fast: one stroke; slow: pocket "
+                       "by pocket")
+    obj.Mode = list(MODES)
+    obj.Mode = scan.mode
+    roles.add_property(obj, "App::PropertyEnumeration", "Direction", "Direction of a fast scan")
+    obj.Direction = list(DIRECTIONS)
+    obj.Direction = scan.direction
+    roles.add_property(obj, "App::PropertyFloat", "ThicknessTolerance",
+                       "Wafer thickness tolerance in mm; negative: half the nominal thickness",
+                       -1.0 if mapping.thickness_tolerance is None else mapping.thickness_tolerance)
+    roles.add_property(obj, "App::PropertyString", "Carrier", "Name (label) of the carrier to scan",
+                       carrier or "")
+    return obj

@@ -1,0 +1,153 @@
+"""FreeCAD document -> core ``Layout``, through the global placements of what the 3D view shows.
+
+A wafer's centre, normal, diameter and thickness come from its solid; a carrier's slots from its
+properties and the placement of its slot origin; the beam from the scanner's emitter and
+receiver; the scan parameters from the ScanSettings object (defaults when there is none).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import FreeCAD as App
+
+from ..core.errors import InputError
+from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
+                          unit)
+from . import roles
+from .disc import NotADisc, disc_of
+from .features import SETTINGS_PROPERTIES
+from .scene import scene_instances
+
+
+def _value(quantity):
+    return float(getattr(quantity, "Value", quantity))
+
+
+def document_source(doc):
+    """How error messages name a document: its file, or its name when it was never saved."""
+    return doc.FileName or doc.Name
+
+
+@dataclass(frozen=True)
+class DocumentScene:
+    """The role-carrying instances of a document, found once."""
+
+    doc: object
+    wafers: tuple
+    carriers: tuple
+    scanners: tuple
+    robots: tuple
+    settings: tuple
+
+    @classmethod
+    def of(cls, doc):
+        found = {role: [] for role in roles.ROLES}
+        for instance in scene_instances(doc):
+            role = roles.role_of(instance.obj)
+            if role is not None:
+                found[role].append(instance)
+        return cls(doc, *(tuple(found[r]) for r in (roles.WAFER, roles.CARRIER, roles.SCANNER,
+                                                     roles.ROBOT, roles.SETTINGS)))
+
+    def error(self, message):
+        return InputError(document_source(self.doc), None, message)
+
+    def scanner(self):
+        if len(self.scanners) != 1:
+            names = ", ".join(i.path for i in self.scanners) or "none"
+            raise self.error(f"expected one visible scanner, found {len(self.scanners)} ({names})")
+        return self.scanners[0]
+
+
+def wafer_from(instance, name):
+    """The core Wafer of a wafer instance, from its global shape."""
+    try:
+        center, normal, diameter, thickness = disc_of(instance.shape())
+    except NotADisc as exc:
+        raise InputError(document_source(instance.root.Document), None,
+                         f"{instance.path} is tagged as a wafer but {exc}") from None
+    return Wafer(name=name, center=center, normal=normal, diameter=diameter,
+                 thickness=thickness)
+
+
+def carrier_from(instance):
+    holder = roles.role_holder(instance.obj)
+    anchor = instance.placement().multiply(holder.SlotOrigin)
+    back = anchor.Rotation.multVec(App.Vector(0, 1, 0))
+    norm = math.hypot(back.x, back.y)
+    return Carrier(
+        name=holder.Label if instance.obj is holder else instance.obj.Label,
+        slot_count=int(holder.SlotCount), pitch=_value(holder.Pitch),
+        first_slot_z=anchor.Base.z, center=(anchor.Base.x, anchor.Base.y),
+        wafer_diameter=_value(holder.WaferDiameter), wafer_thickness=_value(holder.WaferThickness),
+        front=(-back.x / norm, -back.y / norm), support_span=_value(holder.SupportSpan))
+
+
+def beam_from(instance):
+    """The beam of a scanner instance, in global coordinates."""
+    holder = roles.role_holder(instance.obj)
+    placement = instance.placement()
+    emitter = placement.multVec(App.Vector(holder.Emitter))
+    receiver = placement.multVec(App.Vector(holder.Receiver))
+    length = (receiver - emitter).Length
+    if length == 0.0:
+        raise InputError(document_source(instance.root.Document), None,
+                         f"{instance.path}: the beam's emitter and receiver coincide")
+    return Beam((emitter.x, emitter.y, emitter.z), unit(receiver - emitter), length)
+
+
+def _unique_names(instances):
+    labels = [i.obj.Label for i in instances]
+    return [label if labels.count(label) == 1 else i.path for label, i in zip(labels, instances)]
+
+
+def _settings(scene, beam, carriers):
+    """Scan parameters, mapping tolerances and scanned carrier from the ScanSettings object."""
+    if len(scene.settings) > 1:
+        raise scene.error("more than one ScanSettings object")
+    if not scene.settings:
+        top = max((c.seat_z(c.slot_count) + c.pitch for c in carriers), default=beam.emitter[2])
+        return (ScanParameters(start_z=beam.emitter[2], final_z=max(top, beam.emitter[2])),
+                MappingTolerances(), None)
+    obj = roles.role_holder(scene.settings[0].obj)
+    values = {}
+    for prop, _, field, _ in SETTINGS_PROPERTIES:
+        if prop in obj.PropertiesList:
+            values[field] = _value(getattr(obj, prop))
+    scan = ScanParameters(**{k: v for k, v in values.items()
+                             if k in ScanParameters.__dataclass_fields__},
+                          mode=obj.Mode, direction=obj.Direction)
+    tolerance = float(obj.ThicknessTolerance)
+    mapping = MappingTolerances(thickness_tolerance=None if tolerance < 0 else tolerance,
+                                **{k: v for k, v in values.items()
+                                   if k in MappingTolerances.__dataclass_fields__})
+    return scan, mapping, obj.Carrier or None
+
+
+def read_layout(doc, scene=None, lift_axis=None):
+    """The document's layout as a core ``Layout``. ``lift_axis`` overrides the scanner's own
+    (a robot's lift joint gives it)."""
+    scene = scene or DocumentScene.of(doc)
+    scanner = scene.scanner()
+    beam = beam_from(scanner)
+    if lift_axis is None:
+        lift_axis = unit(App.Vector(roles.role_holder(scanner.obj).LiftAxis))
+    carriers = [carrier_from(i) for i in scene.carriers]
+    wafers = [wafer_from(i, name) for i, name in zip(scene.wafers, _unique_names(scene.wafers))]
+    scan, mapping, chosen = _settings(scene, beam, carriers)
+    names = [c.name for c in carriers]
+    if not carriers:
+        raise scene.error("no carrier: tag one with the carrier role")
+    if chosen is None and len(carriers) > 1:
+        raise scene.error(f"several carriers ({', '.join(names)}): set ScanSettings.Carrier")
+    if chosen is not None and chosen not in names:
+        raise scene.error(f"ScanSettings.Carrier is {chosen!r}, but the carriers are "
+                          f"{', '.join(names)}")
+    # The scan starts at StartZ: the beam as it stands is moved along the lift axis to there.
+    travel = (scan.start_z - beam.emitter[2]) / lift_axis[2]
+    emitter = tuple(e + travel * a for e, a in zip(beam.emitter, lift_axis))
+    beam = Beam((emitter[0], emitter[1], scan.start_z), beam.direction, beam.length)
+    return Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
+                  lift_axis=lift_axis, mapping=mapping, carrier=chosen or names[0])

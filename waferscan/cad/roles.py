@@ -1,0 +1,89 @@
+"""Roles on document objects: which object is a wafer, a carrier, the scanner, the robot or the
+scan settings. A role is a set of properties in the "WaferScan" group, so any object can carry
+one, the solids of an imported STEP assembly included; the objects WaferScan builds itself
+carry them too (see ``features``)."""
+
+from __future__ import annotations
+
+import FreeCAD as App
+
+from ..core.scenario import SUPPORT_OVERLAP
+from .disc import NotADisc, disc_of
+
+GROUP = "WaferScan"
+ROLE = "WaferScanRole"
+WAFER, CARRIER, SCANNER, ROBOT, SETTINGS = "Wafer", "Carrier", "Scanner", "Robot", "ScanSettings"
+ROLES = (WAFER, CARRIER, SCANNER, ROBOT, SETTINGS)
+
+
+def role_of(obj):
+    """The object's role, or None; through a link, the linked object's role counts."""
+    for candidate in (obj, obj.getLinkedObject(True)):
+        role = getattr(candidate, ROLE, "")
+        if role in ROLES:
+            return role
+    return None
+
+
+def role_holder(obj):
+    """The object that carries the role's properties (the link's target for a link)."""
+    return obj if getattr(obj, ROLE, "") in ROLES else obj.getLinkedObject(True)
+
+
+def add_property(obj, kind, name, doc, value=None):
+    """Add a property in the WaferScan group if it is missing, and set it when a value is given."""
+    if name not in obj.PropertiesList:
+        obj.addProperty(kind, name, GROUP, doc)
+    if value is not None:
+        setattr(obj, name, value)
+
+
+def set_role(obj, role):
+    add_property(obj, "App::PropertyString", ROLE, "What WaferScan takes this object for", role)
+    obj.setEditorMode(ROLE, 1)  # read-only in the property editor
+
+
+def tag_wafer(obj):
+    """Give an existing solid the wafer role; refuses (NotADisc) a solid that is not a disc."""
+    shape = getattr(obj, "Shape", None)
+    if shape is None or shape.isNull():
+        raise NotADisc(f"{obj.Label} has no shape")
+    try:
+        disc_of(shape)
+    except NotADisc as exc:
+        raise NotADisc(f"{obj.Label} is not a wafer: {exc}") from None
+    set_role(obj, WAFER)
+
+
+def tag_carrier(obj, slot_count=25, pitch=10.0, wafer_diameter=300.0, wafer_thickness=0.775,
+                support_span=None, slot_origin=None):
+    """Give an object the carrier role. ``slot_origin`` is where slot 1's seat centre is in the
+    object's own frame, with X across the carrier (left to right), -Y out of its opening towards
+    the robot and Z up; by default the object's origin."""
+    set_role(obj, CARRIER)
+    add_property(obj, "App::PropertyInteger", "SlotCount", "Number of slots", slot_count)
+    add_property(obj, "App::PropertyLength", "Pitch", "Distance between slots", pitch)
+    add_property(obj, "App::PropertyLength", "WaferDiameter", "Nominal wafer diameter",
+                 wafer_diameter)
+    add_property(obj, "App::PropertyLength", "WaferThickness", "Nominal wafer thickness",
+                 wafer_thickness)
+    add_property(obj, "App::PropertyLength", "SupportSpan",
+                 "Distance between the left and right slot supports' inner edges",
+                 wafer_diameter - 2 * SUPPORT_OVERLAP if support_span is None else support_span)
+    add_property(obj, "App::PropertyPlacement", "SlotOrigin",
+                 "Slot 1's seat centre in this object's frame (X across, -Y to the opening)",
+                 slot_origin if slot_origin is not None else App.Placement())
+
+
+def tag_scanner(obj, emitter=(0.0, 0.0, 0.0), receiver=(160.0, 0.0, 0.0), lift_axis=(0, 0, 1)):
+    """Give an object the scanner role: the beam runs from ``emitter`` to ``receiver``, both in
+    the object's own frame. ``lift_axis`` is the global direction the scan moves it along when no
+    robot carries it."""
+    set_role(obj, SCANNER)
+    add_property(obj, "App::PropertyVector", "Emitter", "Beam emitter in this object's frame",
+                 App.Vector(*emitter))
+    add_property(obj, "App::PropertyVector", "Receiver", "Beam receiver in this object's frame",
+                 App.Vector(*receiver))
+    add_property(obj, "App::PropertyVector", "LiftAxis",
+                 "Global direction of the scan motion when no robot carries the scanner",
+                 App.Vector(*lift_axis))

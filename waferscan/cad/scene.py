@@ -1,0 +1,74 @@
+"""What the 3D view shows: every visible object instance of a document with its global placement
+and shape, through App::Part containers, groups and App::Link.
+
+FreeCAD 0.20 quirk, handled here and only here: ``obj.getGlobalPlacement()`` follows App::Part
+containers but not App::Link. An instance is therefore addressed as FreeCAD's selection does,
+by a root object and a sub-name path ("Carrier.Wafer."), and its placement and shape are asked
+of the root (``getSubObject(sub, retType=3)``, ``Part.getShape(root, sub)``), which follow both.
+Through a link, the link's placement replaces the linked object's own (LinkTransform off).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import FreeCAD as App
+import Part
+
+MAX_DEPTH = 32  # links can form cycles; no real assembly nests deeper
+
+
+@dataclass(frozen=True)
+class Instance:
+    """One occurrence of an object in the scene."""
+
+    root: object  # top-level document object
+    sub: str  # sub-name path from the root, "" for the root itself
+    obj: object  # the object at the end of the path (a link object, if it is one)
+    target: object  # the object it finally shows (through links)
+
+    @property
+    def path(self):
+        """A readable, unique name: the labels along the path."""
+        names = [self.root.Label]
+        for part in self.sub.split(".")[:-1]:
+            names.append(self.root.Document.getObject(part).Label)
+        return "/".join(names)
+
+    def placement(self):
+        """Global placement of the instance (App.Placement)."""
+        if not self.sub:
+            return App.Placement(self.root.Placement)
+        return self.root.getSubObject(self.sub, retType=3)
+
+    def shape(self):
+        """Global shape of the instance, placed as the 3D view shows it."""
+        return Part.getShape(self.root, self.sub)
+
+
+def scene_roots(doc):
+    """Objects no group or container claims: the top of the tree."""
+    return [o for o in doc.Objects
+            if o.getParentGroup() is None and o.getParentGeoFeatureGroup() is None]
+
+
+def _visible(obj):
+    return getattr(obj, "Visibility", True)
+
+
+def scene_instances(doc):
+    """Every visible instance of the document's scene, depth first."""
+    found = []
+
+    def walk(root, sub, obj, depth):
+        if depth > MAX_DEPTH or not _visible(obj):
+            return
+        found.append(Instance(root, sub, obj, obj.getLinkedObject(True)))
+        for child_sub in obj.getSubObjects():
+            child = obj.getSubObject(child_sub, retType=1)
+            if child is not None:
+                walk(root, sub + child_sub, child, depth + 1)
+
+    for root in scene_roots(doc):
+        walk(root, "", root, 0)
+    return found
