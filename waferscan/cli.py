@@ -13,13 +13,11 @@ from pathlib import Path
 
 from .addon import addon_root
 from .core import report
-from .core.engines import ENGINES
+from .core.engines import CAD_ENGINES, ENGINES
 from .core.errors import InputError
-from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, apply_parameters, atomic_write_text,
+from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, Parameters, atomic_write_text,
                        format_parameters, format_results, read_parameters)
 from .core.model import DIRECTIONS, MODES
-from .core.scan import scan_layout
-from .core.scenario import read_scenario
 
 PROG = "waferscan"
 
@@ -54,25 +52,25 @@ def _write(path, text):
         raise InputError(path, None, f"cannot write: {exc.strerror}") from None
 
 
-def _read_layout(path):
-    path = Path(path)
-    if path.suffix.lower() == ".fcstd":
-        raise InputError(path, None, "reading .FCStd layouts needs the CAD layer, which is not "
-                                     "there yet: give a scenario .toml")
-    if path.suffix.lower() != ".toml":
-        raise InputError(path, None, "expected a scenario .toml")
-    return read_scenario(path)
-
-
-def _scan(layout, engine, source):
+def _check_engine(layout, engine, source):
     if layout.scan.exact and engine != "analytic":
         raise InputError(source, None, f"z_step = 0 asks for exact edges, which only the "
                                        f"analytic engine gives (not {engine})")
+
+
+def _scan_input(path, engine, parameters=None):
+    """Scan a scenario or a layout through a FreeCAD document: the scenario is built into one,
+    the layout opened; the scan reads it back. FreeCAD is imported only here."""
+    from .cad.document_scan import scan_document
+    from .cad.layout_files import opened_layout
+
     progress = _Progress(f"scanning ({engine})")
-    try:
-        return scan_layout(layout, engine, progress=progress)
-    finally:
-        progress.close()
+    with opened_layout(path) as doc:
+        try:
+            return scan_document(doc, engine, progress=progress, parameters=parameters,
+                                 check=lambda layout: _check_engine(layout, engine, path))
+        finally:
+            progress.close()
 
 
 def _print_result(result, as_json, paper=False):
@@ -109,8 +107,8 @@ def demo_checks(result):
 
 def cmd_demo(args):
     path = paper_scenario()
-    layout = read_scenario(path)
-    result = _scan(layout, args.engine, path)
+    result = _scan_input(path, args.engine)
+    layout = result.layout
     if args.out:
         out = Path(args.out)
         try:
@@ -125,7 +123,7 @@ def cmd_demo(args):
         return 0
     print(f"The paper's experiment ({path.name}): 25-slot FOUP, ten 300 mm wafers 0.7 mm thick,")
     print(f"{layout.scan.final_z - layout.scan.start_z:g} mm of Z travel at {layout.scan.z_step:g} mm "
-          f"steps, engine {args.engine}.")
+          f"steps, scanned through the FreeCAD document with the {args.engine} engine.")
     print()
     _print_result(result, False, paper=True)
     print()
@@ -138,18 +136,43 @@ def cmd_demo(args):
 
 
 def cmd_scan(args):
-    layout = _read_layout(args.input)
-    if args.params:
-        layout = apply_parameters(layout, read_parameters(args.params))
-    changes = {k: v for k, v in (("mode", args.mode), ("direction", args.direction)) if v}
-    if changes:
-        layout = layout.with_scan(**changes)
-    result = _scan(layout, args.engine, args.input)
+    parameters = read_parameters(args.params) if args.params else None
+    overrides = {k: v for k, v in (("mode", args.mode), ("direction", args.direction)) if v}
+    if overrides:
+        base = parameters or Parameters({}, {}, "--mode/--direction")
+        parameters = Parameters({**base.values, **overrides}, base.lines, base.source)
+    result = _scan_input(args.input, args.engine, parameters)
     if args.out:
-        _write(args.out, format_results(None, "SCF" if layout.scan.mode == "fast"
-                                                   else "SCS", result))
+        _write(args.out, format_results(None, "SCF" if result.layout.scan.mode == "fast"
+                                        else "SCS", result))
     _print_result(result, args.json)
     return 0
+
+
+def cmd_layout(args):
+    from .cad.layout_files import open_layout, save_document
+    import FreeCAD as App
+
+    doc = open_layout(args.scenario)
+    try:
+        save_document(doc, args.output)
+    finally:
+        App.closeDocument(doc.Name)
+    print(f"{args.output}: layout of {args.scenario}")
+    return 0
+
+
+def cmd_crosscheck(args):
+    from .cad.brep import crosscheck
+    from .cad.layout_files import opened_layout
+
+    with opened_layout(args.input) as doc:
+        check = crosscheck(doc)
+    if args.json:
+        print(json.dumps(report.crosscheck_dict(check), indent=2))
+    else:
+        print(report.format_crosscheck(check))
+    return 0 if check.ok else 1
 
 
 class _Parser(argparse.ArgumentParser):
@@ -164,17 +187,17 @@ def build_parser():
     parser = _Parser(prog=PROG, description="Wafer-scanning (mapping) simulator for FreeCAD "
                                              "layouts and scenario files.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    engines = sorted(ENGINES)
+    engines = sorted(ENGINES) + list(CAD_ENGINES)
 
     demo = sub.add_parser("demo", help="the paper's experiment: scan, Table 1 and the slot code")
     demo.add_argument("--out", metavar="DIR", help="write parameters.txt, commands.txt and "
                                                     "results.txt to DIR")
     demo.add_argument("--json", action="store_true", help="print one JSON object")
-    demo.add_argument("--engine", choices=engines, default="analytic")
+    demo.add_argument("--engine", choices=engines, default="document")
     demo.set_defaults(run=cmd_demo)
 
-    scan = sub.add_parser("scan", help="scan a scenario .toml")
-    scan.add_argument("input", metavar="INPUT", help="scenario .toml")
+    scan = sub.add_parser("scan", help="scan a scenario .toml or a layout .FCStd")
+    scan.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
     scan.add_argument("--params", metavar="FILE", help="a parameters.txt whose values override "
                                                        "the layout's")
     scan.add_argument("--engine", choices=engines, default="analytic")
@@ -183,6 +206,16 @@ def build_parser():
     scan.add_argument("--out", metavar="FILE", help="write the results in results.txt format")
     scan.add_argument("--json", action="store_true", help="print one JSON object")
     scan.set_defaults(run=cmd_scan)
+
+    layout = sub.add_parser("layout", help="build a FreeCAD layout from a scenario")
+    layout.add_argument("scenario", metavar="SCENARIO.toml")
+    layout.add_argument("-o", "--output", metavar="LAYOUT.FCStd", required=True)
+    layout.set_defaults(run=cmd_layout)
+
+    check = sub.add_parser("crosscheck", help="confirm every IN/OUT with FreeCAD's B-rep geometry")
+    check.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
+    check.add_argument("--json", action="store_true", help="print one JSON object")
+    check.set_defaults(run=cmd_crosscheck)
     return parser
 
 

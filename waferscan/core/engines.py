@@ -57,7 +57,7 @@ def runs_from_intervals(intervals):
     return tuple(runs)
 
 
-def _reachable(layout):
+def reachable_wafers(layout):
     """Indices of the wafers that pass the accessibility check over the whole scan."""
     scan = layout.scan
     return [i for i, w in enumerate(layout.wafers)
@@ -75,7 +75,7 @@ def _step_by_step(layout, test, progress=None):
     """The paper's procedure: for each step, for each reachable wafer, test."""
     _stepped(layout)
     scan = layout.scan
-    reachable = _reachable(layout)
+    reachable = reachable_wafers(layout)
     count = scan.position_count
     first = [None] * len(layout.wafers)
     last = [None] * len(layout.wafers)
@@ -109,7 +109,7 @@ def vector_engine(layout, progress=None, chunk_elements=2_000_000):
     """numpy over steps x wafers, in chunks of steps to bound memory."""
     _stepped(layout)
     scan = layout.scan
-    reachable = _reachable(layout)
+    reachable = reachable_wafers(layout)
     count = scan.position_count
     columns = [c[None, :] for c in wafer_columns([layout.wafers[i] for i in reachable])]
     first = np.full(len(reachable), -1)
@@ -182,7 +182,7 @@ def analytic_engine(layout, progress=None):
     scan = layout.scan
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")
-    reachable = set(_reachable(layout))
+    reachable = set(reachable_wafers(layout))
     edges = [wafer_edges(layout, w) if i in reachable else None
              for i, w in enumerate(layout.wafers)]
     if scan.exact:
@@ -203,6 +203,10 @@ def analytic_engine(layout, progress=None):
                   for w, e in zip(layout.wafers, edges))
     return StepHits(scan.position_count, steps, runs_from_intervals(steps))
 
+
+# Engines of the CAD layer (waferscan.cad, which needs FreeCAD): named here so that a command
+# line can offer them without importing FreeCAD.
+CAD_ENGINES = ("document", "brep")
 
 ENGINES = {
     "loop": loop_engine,

@@ -62,3 +62,31 @@ def format_table(result, paper=False):
     out = [line(head), line(["-" * w for w in widths])]
     out += [line(r) for r in rows]
     return "\n".join(out)
+
+
+def crosscheck_dict(check):
+    """The JSON object of ``crosscheck --json``."""
+    return {
+        "ok": check.ok,
+        "largest_deviation": check.largest_deviation,
+        "code": check.result.code,
+        "runs": [{"in": r.z_in, "out": r.z_out, "blocked_at_edges": r.blocked_at_edges,
+                  "clear_outside": r.clear_outside} for r in check.runs],
+        "wafers": [{"name": w.wafer, "edges": list(w.edges), "brep": list(w.brep),
+                    "deviation": w.deviation} for w in check.wafers],
+    }
+
+
+def format_crosscheck(check):
+    """The cross-check as text: each run confirmed or not, each wafer's edges both ways."""
+    lines = ["run  IN        OUT       B-rep: blocked at IN/OUT  clear one step outside"]
+    for i, r in enumerate(check.runs, start=1):
+        lines.append(f"{i:3d}  {r.z_in:8.3f}  {r.z_out:8.3f}  {'yes' if r.blocked_at_edges else 'NO':>24}"
+                     f"  {'yes' if r.clear_outside else 'NO':>22}")
+    lines += ["", "wafer      closed-form edges (mm)          B-rep bisection (mm)            deviation"]
+    for w in check.wafers:
+        lines.append(f"{w.wafer:<10} {w.edges[0]:14.9f} {w.edges[1]:14.9f}  "
+                     f"{w.brep[0]:14.9f} {w.brep[1]:14.9f}  {w.deviation:.2e}")
+    lines += ["", f"largest deviation {check.largest_deviation:.3e} mm; "
+                  f"{'confirmed' if check.ok else 'NOT confirmed'} by FreeCAD's B-rep geometry"]
+    return "\n".join(lines)

@@ -194,16 +194,15 @@ def protruding_slots(carrier, plan, wafers):
     return sorted(slots), tuple(found)
 
 
-def scan_layout(layout, engine="analytic", progress=None, plan=None):
+def scan_layout(layout, engine="analytic", progress=None, stepper=None):
     """Scan the layout with the named engine and map the scanned carrier's slots.
 
-    ``plan`` overrides the nominal slots the mapping judges against (the MCS's parameters);
-    by default they come from the scanned carrier."""
+    ``stepper(layout, progress)``, when given, computes the hits in place of the core engine of
+    that name (the CAD layer's ``document`` and ``brep`` engines come in this way)."""
     scan = layout.scan
     carrier = layout.scanned_carrier
-    if plan is None:
-        plan = slot_plan(carrier, layout.mapping)
-    hits = run_engine(engine, layout, progress)
+    plan = slot_plan(carrier, layout.mapping)
+    hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(layout, progress)
     window = _window(plan) if scan.mode == SLOW else None
     if isinstance(hits, ExactHits):
         run_spans, wafer_spans = _exact_intervals(hits, window)

@@ -1,0 +1,66 @@
+"""Layouts on disk: a scenario .toml is built into a document, a .FCStd is opened; documents are
+saved atomically. Errors are ``InputError`` naming the file."""
+
+from __future__ import annotations
+
+import os
+from contextlib import contextmanager
+from pathlib import Path
+
+import FreeCAD as App
+
+from ..core.errors import InputError
+from ..core.scenario import read_scenario
+from .builder import build_document
+
+
+def open_layout(path):
+    """A document for a scenario (.toml, built in memory) or a layout (.FCStd, opened)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".toml":
+        layout = read_scenario(path)
+        return build_document(layout, name=_document_name(path))
+    if suffix != ".fcstd":
+        raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
+    if not path.is_file():
+        raise InputError(path, None, "no such file")
+    try:
+        return App.openDocument(str(path.resolve()))
+    except Exception as exc:  # FreeCAD raises plain Exception/IOError for unreadable files
+        raise InputError(path, None, f"FreeCAD cannot open it: {exc}") from None
+
+
+def _document_name(path):
+    name = "".join(c if c.isalnum() else "_" for c in path.stem) or "Layout"
+    return name if name[0].isalpha() else "L" + name
+
+
+@contextmanager
+def opened_layout(path):
+    """``open_layout`` as a context: the document is closed afterwards."""
+    doc = open_layout(path)
+    try:
+        yield doc
+    finally:
+        App.closeDocument(doc.Name)
+
+
+def save_document(doc, path):
+    """Save the document as ``path`` without ever leaving half a file there: save beside it
+    under a temporary name, then rename over."""
+    path = Path(path)
+    if path.suffix.lower() != ".fcstd":
+        raise InputError(path, None, "a FreeCAD layout is saved as .FCStd")
+    if not path.parent.is_dir():
+        raise InputError(path, None, f"no folder {path.parent}")
+    temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
+    try:
+        doc.saveAs(str(temporary))
+        os.replace(temporary, path)
+    except Exception as exc:  # FreeCAD reports a failed save as a plain Exception
+        raise InputError(path, None, f"cannot write: {getattr(exc, 'strerror', None) or exc}") \
+            from None
+    finally:
+        if temporary.exists():
+            temporary.unlink()
