@@ -30,10 +30,12 @@ fi
 # 2. Ask FreeCAD where its Python modules and its user data folder are (one start-up).
 fc_info=$(freecadcmd -c "import os, FreeCAD, Part
 print('WS_LIB=' + os.path.dirname(Part.__file__))
+print('WS_MOD=' + os.path.join(FreeCAD.getHomePath(), 'Mod'))
 print('WS_USER=' + FreeCAD.getUserAppDataDir())" 2>/dev/null) || true
 fc_lib=$(sed -n 's/^WS_LIB=//p' <<<"$fc_info")
+fc_mod=$(sed -n 's/^WS_MOD=//p' <<<"$fc_info")
 fc_user=$(sed -n 's/^WS_USER=//p' <<<"$fc_info")
-if [ -z "$fc_lib" ] || [ -z "$fc_user" ]; then
+if [ -z "$fc_lib" ] || [ -z "$fc_mod" ] || [ -z "$fc_user" ]; then
   say "error: freecadcmd did not report its module folder and user folder:" >&2
   printf '%s\n' "$fc_info" >&2
   exit 1
@@ -55,11 +57,13 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
   printf '%s\n' "$want" >"$stamp"
 fi
 
-# 5. FreeCAD's modules in the venv's Python: `import FreeCAD, Part` works there.
+# 5. FreeCAD's modules in the venv's Python: `import FreeCAD, Part` works there, and so do the
+#    workbenches' Python packages (PartDesign, Spreadsheet...) that a user's document may need.
 pth="$site_packages/freecad.pth"
-if [ "$(cat "$pth" 2>/dev/null)" != "$fc_lib" ]; then
-  say "adding $fc_lib to the venv ($pth)"
-  printf '%s\n' "$fc_lib" >"$pth"
+want_pth=$(printf '%s\n%s' "$fc_lib" "$fc_mod")
+if [ "$(cat "$pth" 2>/dev/null)" != "$want_pth" ]; then
+  say "adding $fc_lib and $fc_mod to the venv ($pth)"
+  printf '%s\n' "$want_pth" >"$pth"
 fi
 
 # 6. The addon in FreeCAD's user Mod folder, as a link to this checkout.
