@@ -3,7 +3,9 @@ saved atomically. Errors are ``InputError`` naming the file."""
 
 from __future__ import annotations
 
+import ctypes
 import os
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -14,19 +16,46 @@ from ..core.scenario import read_scenario
 from .builder import build_document
 
 
+@contextmanager
+def quiet_console():
+    """FreeCAD quirk: in freecadcmd, loading a document and recomputing print a progress
+    sequence ("Importing project files... (8 %)") on standard output, where it would mix with a
+    command's results (--json). Standard output's file descriptor points at /dev/null
+    meanwhile; C's buffers are flushed on both sides of the switch."""
+    libc = ctypes.CDLL(None)
+    try:
+        sys.stdout.flush()
+        libc.fflush(None)
+        saved = os.dup(1)
+    except (OSError, ValueError):
+        yield  # no usable standard output: nothing to protect
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 1)
+    try:
+        yield
+    finally:
+        libc.fflush(None)
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(devnull)
+
+
 def open_layout(path):
     """A document for a scenario (.toml, built in memory) or a layout (.FCStd, opened)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".toml":
         layout = read_scenario(path)
-        return build_document(layout, name=_document_name(path))
+        with quiet_console():
+            return build_document(layout, name=_document_name(path))
     if suffix != ".fcstd":
         raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
     if not path.is_file():
         raise InputError(path, None, "no such file")
     try:
-        return App.openDocument(str(path.resolve()))
+        with quiet_console():
+            return App.openDocument(str(path.resolve()))
     except Exception as exc:  # FreeCAD raises plain Exception/IOError for unreadable files
         raise InputError(path, None, f"FreeCAD cannot open it: {exc}") from None
 

@@ -1,0 +1,92 @@
+"""The command line through FreeCAD documents: layout, scan of .toml and .FCStd with every engine,
+crosscheck, and batch runs in freecadcmd whose exit status is the run's."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PAPER = ROOT / "resources" / "examples" / "paper.toml"
+CODE = "1101221001220001010000010"
+
+
+def waferscan(*args, check=True):
+    done = subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    if check:
+        assert done.returncode == 0, done.stderr
+    return done
+
+
+@pytest.fixture(scope="module")
+def paper_layout(tmp_path_factory):
+    path = tmp_path_factory.mktemp("layout") / "paper.FCStd"
+    done = waferscan("layout", PAPER, "-o", path)
+    assert path.is_file() and path.stat().st_size > 1000
+    assert str(path) in done.stdout
+    return path
+
+
+def runs(done):
+    data = json.loads(done.stdout)
+    return data["code"], [(r["in"], r["out"], r["wafers"]) for r in data["runs"]]
+
+
+def test_scan_of_layout_equals_scan_of_scenario_with_every_engine(paper_layout):
+    reference = runs(waferscan("scan", PAPER, "--json"))
+    assert reference[0] == CODE
+    for engine in ("analytic", "document", "brep", "loop", "vector"):
+        assert runs(waferscan("scan", paper_layout, "--json", "--engine", engine)) == reference
+
+
+def test_crosscheck_confirms_the_demo_to_a_micrometre(paper_layout):
+    done = waferscan("crosscheck", paper_layout, "--json")
+    data = json.loads(done.stdout)
+    assert data["ok"] is True and data["code"] == CODE
+    assert 0.0 < data["largest_deviation"] <= 1e-6
+    assert len(data["runs"]) == 10 and all(r["blocked_at_edges"] and r["clear_outside"]
+                                           for r in data["runs"])
+    assert len(data["wafers"]) == 10
+    text = waferscan("crosscheck", PAPER).stdout
+    assert "confirmed by FreeCAD's B-rep geometry" in text
+
+
+def test_layout_refuses_a_bad_scenario_and_keeps_an_existing_file(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(PAPER.read_text().replace("pitch = 10.0", "pitch = -10.0"))
+    out = tmp_path / "out.FCStd"
+    out.write_bytes(b"previous")
+    done = waferscan("layout", bad, "-o", out, check=False)
+    assert done.returncode == 2
+    assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
+    assert done.stderr.startswith(f"waferscan: error: {bad}:")
+    assert out.read_bytes() == b"previous"
+
+
+def test_scan_refuses_an_unreadable_layout(tmp_path):
+    broken = tmp_path / "broken.FCStd"
+    broken.write_text("not a FreeCAD file")
+    done = waferscan("scan", broken, check=False)
+    assert done.returncode == 2
+    assert done.stderr == f"waferscan: error: {broken}: FreeCAD cannot open it: Invalid project " \
+                          f"file: {broken}\n"
+
+
+def freecadcmd(code):
+    return subprocess.run(["freecadcmd", "-c", code], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+
+
+def test_batch_run_in_freecadcmd(paper_layout):
+    """The README's batch run: the JSON on stdout is clean, the exit status is the run's."""
+    done = freecadcmd("import sys, waferscan.cli as c; "
+                      f"sys.exit(c.main(['scan', {str(paper_layout)!r}, '--json']))")
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["code"] == CODE
+    done = freecadcmd("import sys, waferscan.cli as c; "
+                      "sys.exit(c.main(['scan', '/nonexistent/layout.FCStd']))")
+    assert done.returncode == 2
+    assert "waferscan: error: /nonexistent/layout.FCStd: no such file" in done.stderr
