@@ -144,6 +144,16 @@ class MappingTolerances:
 
 
 @dataclass(frozen=True)
+class RobotSpec:
+    """The robot that carries the scanner: its URDF (None: the bundled robot) and where its
+    base stands. Its start pose is taught so that its beam lies where the layout's beam is."""
+
+    urdf: str | None = None
+    base: tuple = (0.0, 0.0, 0.0)  # mm
+    base_yaw: float = 0.0  # degrees about Z
+
+
+@dataclass(frozen=True)
 class Layout:
     """Everything one scan needs: carriers, wafers, the beam at the scan's start, the lift axis,
     the scan parameters, the mapping tolerances and which carrier the slot code describes."""
@@ -155,6 +165,7 @@ class Layout:
     lift_axis: tuple = (0.0, 0.0, 1.0)
     mapping: MappingTolerances = field(default_factory=MappingTolerances)
     carrier: str | None = None  # name of the scanned carrier; None: the only one
+    robot: RobotSpec | None = None  # what carries the scanner, when a robot does
 
     @property
     def scanned_carrier(self):

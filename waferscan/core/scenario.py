@@ -21,7 +21,8 @@ from pathlib import Path
 
 from . import schema
 from .errors import InputError
-from .model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer, unit
+from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
+                    unit)
 
 THIN_FACTOR = 0.25
 MISPLACED_RISE = 2.0
@@ -76,9 +77,10 @@ class _Lines:
 
 
 class _Reader:
-    def __init__(self, source, text):
+    def __init__(self, source, text, folder=None):
         self.source = source
         self.lines = _Lines(text)
+        self.folder = folder  # where relative paths in the file start from
 
     def error(self, message, table=None, index=None, key=None):
         where = f"[{table}] " if table and index is None else (
@@ -117,11 +119,12 @@ def read_scenario(path):
     except UnicodeDecodeError as exc:
         line = raw[:exc.start].count(b"\n") + 1
         raise InputError(path, line, "not UTF-8 text") from None
-    return parse_scenario(text, str(path))
+    return parse_scenario(text, str(path), folder=path.resolve().parent)
 
 
-def parse_scenario(text, source="<scenario>"):
-    """Parse scenario text into a ``Layout``; ``source`` names it in error messages."""
+def parse_scenario(text, source="<scenario>", folder=None):
+    """Parse scenario text into a ``Layout``; ``source`` names it in error messages, ``folder``
+    is where relative paths start (the current folder when None)."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -129,7 +132,7 @@ def parse_scenario(text, source="<scenario>"):
         line = int(match.group(1)) if match else None
         message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
         raise InputError(source, line, f"not valid TOML: {message}") from None
-    reader = _Reader(source, text)
+    reader = _Reader(source, text, Path(folder) if folder is not None else Path.cwd())
     for key, value in data.items():
         if key not in _TABLES:
             raise reader.error(f"unknown table or key {key!r} (known tables: "
@@ -175,8 +178,30 @@ def parse_scenario(text, source="<scenario>"):
                                "normalising)", "sensor", key="lift_axis")
 
     wafers = _wafers(reader, data, carriers)
+    robot = _robot(reader, data["robot"]) if "robot" in data else None
     return Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
-                  lift_axis=lift_axis, mapping=mapping, carrier=chosen)
+                  lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
+
+
+_ROBOT_KEYS = {"urdf", "base", "base_yaw"}
+
+
+def _robot(reader, data):
+    """The [robot] table: ``urdf`` (relative to the scenario's folder; default the bundled
+    robot), ``base`` [x, y, z] in mm and ``base_yaw`` in degrees."""
+    reader.table(data, "robot", _ROBOT_KEYS)
+    urdf = reader.value(data, "robot", "urdf", schema.name)
+    if urdf is not None:
+        path = Path(urdf)
+        if not path.is_absolute() and reader.folder is not None:
+            path = reader.folder / path
+        if not path.is_file():
+            raise reader.error(f"no such file: {path}", "robot", key="urdf")
+        urdf = str(path)
+    return RobotSpec(urdf=urdf,
+                     base=reader.value(data, "robot", "base", schema.vector(3),
+                                       default=(0.0, 0.0, 0.0)),
+                     base_yaw=reader.value(data, "robot", "base_yaw", schema.number, default=0.0))
 
 
 _CARRIER_KEYS = {"name", "slots", "pitch", "first_slot_z", "center", "wafer_diameter",
@@ -217,11 +242,10 @@ _SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"}
 
 
 def _beam_and_scan(reader, data):
-    if "robot" in data and "sensor" not in data:
-        raise reader.error("a [robot] scenario needs the robot support of the CAD layer, "
-                           "which is not there yet: give the beam in a [sensor] table", "robot")
     if "sensor" not in data:
-        raise InputError(reader.source, None, "no [sensor] table: a scenario needs the beam")
+        raise InputError(reader.source, None, "no [sensor] table: a scenario needs the beam at "
+                                              "the scan's start (a [robot] is taught to put its "
+                                              "beam there)")
     sensor = reader.table(data["sensor"], "sensor", _SENSOR_KEYS)
     scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"})
 
