@@ -65,7 +65,11 @@ def build_document(layout, name="WaferScanLayout", doc=None):
             add_wafer(doc, wafer, assembly, frame)
     for wafer in loose:
         add_wafer(doc, wafer)
-    scanner = features.make_scanner(doc, layout.beam.length, layout.lift_axis)
-    scanner.Placement = beam_placement(layout.beam)
+    if layout.robot is not None:
+        from .robot import build_robot  # pinocchio is imported only when a robot is there
+        build_robot(doc, layout.robot, layout.beam)
+    else:
+        scanner = features.make_scanner(doc, layout.beam.length, layout.lift_axis)
+        scanner.Placement = beam_placement(layout.beam)
     doc.recompute()
     return doc
