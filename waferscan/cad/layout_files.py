@@ -6,6 +6,8 @@ from __future__ import annotations
 import ctypes
 import os
 import sys
+import zipfile
+from xml.sax.saxutils import quoteattr
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -86,6 +88,8 @@ def save_document(doc, path):
     temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
     try:
         doc.saveAs(str(temporary))
+        if not App.GuiUp:
+            _add_view_data(doc, temporary)
         os.replace(temporary, path)
     except Exception as exc:  # FreeCAD reports a failed save as a plain Exception
         raise InputError(path, None, f"cannot write: {getattr(exc, 'strerror', None) or exc}") \
@@ -93,3 +97,26 @@ def save_document(doc, path):
     finally:
         if temporary.exists():
             temporary.unlink()
+
+
+def _add_view_data(doc, path):
+    """FreeCAD quirk: a document saved without the GUI has no GuiDocument.xml, and the GUI then
+    opens its C++ features (cylinders, parts, link solids) hidden. Write the view data FreeCAD
+    would have written: each object shown as its own Visibility says (origins stay hidden)."""
+    rows = []
+    for obj in doc.Objects:
+        if obj.TypeId in ("App::Origin", "App::Line", "App::Plane"):
+            continue
+        shown = "true" if getattr(obj, "Visibility", True) else "false"
+        rows.append(f'        <ViewProvider name={quoteattr(obj.Name)} expanded="0">\n'
+                    f'            <Properties Count="1">\n'
+                    f'                <Property name="Visibility" type="App::PropertyBool">\n'
+                    f'                    <Bool value="{shown}"/>\n'
+                    f'                </Property>\n'
+                    f'            </Properties>\n'
+                    f'        </ViewProvider>')
+    xml = ('<?xml version=\'1.0\' encoding=\'utf-8\'?>\n<Document SchemaVersion="1">\n'
+           f'    <ViewProviderData Count="{len(rows)}">\n' + "\n".join(rows) +
+           '\n    </ViewProviderData>\n</Document>\n')
+    with zipfile.ZipFile(path, "a", zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr("GuiDocument.xml", xml)

@@ -1,0 +1,42 @@
+"""Running a probe script in a real FreeCAD GUI under Xvfb; the probe reports through a JSON
+file whose path it gets in WAFERSCAN_GUI_RESULT."""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+
+import pytest
+
+FREECAD = shutil.which("freecad")
+TIMEOUT_S = 180
+
+
+@pytest.fixture(scope="module")
+def run_gui_probe(tmp_path_factory):
+    """run_gui_probe(probe_path, **env) -> the probe's JSON result (asserted ok)."""
+
+    def run(probe, **extra_env):
+        if FREECAD is None:
+            pytest.skip("FreeCAD (freecad) is not installed")
+        result_file = tmp_path_factory.mktemp("gui") / "result.json"
+        env = dict(os.environ, QTWEBENGINE_DISABLE_SANDBOX="1",
+                   WAFERSCAN_GUI_RESULT=str(result_file), **extra_env)
+        command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", FREECAD, str(probe)]
+        # Own process group: on a timeout, xvfb-run, Xvfb and FreeCAD all go.
+        proc = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                start_new_session=True)
+        try:
+            output, _ = proc.communicate(timeout=TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            output, _ = proc.communicate()
+            pytest.fail(f"FreeCAD GUI did not quit within {TIMEOUT_S} s:\n{output}")
+        assert result_file.exists(), f"the probe wrote no result (rc {proc.returncode}):\n{output}"
+        result = json.loads(result_file.read_text(encoding="utf-8"))
+        assert result["ok"], result.get("error")
+        return result
+
+    return run
