@@ -1,7 +1,6 @@
 """The addon as headless FreeCAD loads it: through the Mod link that `make setup` makes."""
 
 import json
-import os
 import shutil
 import subprocess
 from pathlib import Path

@@ -4,7 +4,6 @@ any origin, save and reload."""
 
 import math
 import random
-from dataclasses import replace
 
 import FreeCAD as App
 import Part

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 import FreeCAD as App
 import Part
 
-from ..core.engines import StepHits, reachable_wafers, runs_from_blocked, wafer_edges
-from .document_scan import mover_for, read_beam
-from .reader import DocumentScene, read_layout
+from ..core.engines import wafer_edges
+from .document_scan import stepper_through_document
+from .reader import DocumentScene
 
 TOUCH = Part.Precision.confusion()  # 1e-7 mm
 
@@ -41,37 +41,19 @@ def brep_stepper(scene, mover):
     """The ``brep`` engine: step by step, the beam as an edge against each wafer's solid. Only
     wafers whose bounding box meets the beam's are asked, since each question costs ~0.3 ms."""
 
-    def stepper(layout, progress=None):
-        scan = layout.scan
-        if scan.exact:
-            raise ValueError("z_step = 0 (exact edges) is only offered by the analytic engine")
-        reachable = reachable_wafers(layout)
+    def prepare(layout, reachable):
         solids = {i: scene.wafers[i].shape() for i in reachable}
         boxes = {i: s.BoundBox for i, s in solids.items()}
-        scanner = scene.scanner()
-        count = scan.position_count
-        first = [None] * len(layout.wafers)
-        last = [None] * len(layout.wafers)
-        blocked = [False] * count
-        try:
-            for k in range(count):
-                mover.move_to(scan.position(k))
-                beam = read_beam(scanner)
-                box = beam_edge(beam.emitter, beam).BoundBox
-                box.enlarge(10 * TOUCH)
-                for i, solid in solids.items():
-                    if box.intersect(boxes[i]) and brep_blocked(solid, beam.emitter, beam):
-                        blocked[k] = True
-                        first[i] = k if first[i] is None else first[i]
-                        last[i] = k
-                if progress is not None and k % 500 == 0:
-                    progress(k, count)
-        finally:
-            mover.restore()
-        steps = tuple(None if f is None else (f, l) for f, l in zip(first, last))
-        return StepHits(count, steps, runs_from_blocked(blocked))
 
-    return stepper
+        def hits(beam):
+            box = beam_edge(beam.emitter, beam).BoundBox
+            box.enlarge(10 * TOUCH)
+            return [i for i, solid in solids.items()
+                    if box.intersect(boxes[i]) and brep_blocked(solid, beam.emitter, beam)]
+
+        return hits
+
+    return stepper_through_document(scene, mover, prepare)
 
 
 @dataclass(frozen=True)

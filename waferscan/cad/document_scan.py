@@ -12,6 +12,7 @@ import FreeCAD as App
 
 from ..core.engines import CAD_ENGINES, StepHits, reachable_wafers, runs_from_blocked
 from ..core.geometry import beam_hits_wafer
+from ..core.mcs import apply_parameters
 from ..core.model import Beam, Wafer, unit
 from ..core.scan import scan_layout
 from . import roles
@@ -80,15 +81,17 @@ def read_beam(instance):
     return Beam((e.x, e.y, e.z), unit(r - e), (r - e).Length)
 
 
-def document_stepper(scene, mover):
-    """The ``document`` engine: the paper's procedure through the document API."""
+def stepper_through_document(scene, mover, prepare):
+    """A stepped engine that goes through the document: for each scan position, move the
+    scanner (or the robot's lift joint), read the beam back, and ask ``hits(beam)`` for the
+    indices of the wafers it meets. ``prepare(layout, reachable)`` returns ``hits``; reachable
+    are the wafers that pass the accessibility check."""
 
     def stepper(layout, progress=None):
         scan = layout.scan
         if scan.exact:
             raise ValueError("z_step = 0 (exact edges) is only offered by the analytic engine")
-        reachable = reachable_wafers(layout)
-        discs = {i: _LocalDisc(scene.wafers[i], layout.wafers[i]) for i in reachable}
+        hits = prepare(layout, reachable_wafers(layout))
         scanner = scene.scanner()
         count = scan.position_count
         first = [None] * len(layout.wafers)
@@ -97,12 +100,10 @@ def document_stepper(scene, mover):
         try:
             for k in range(count):
                 mover.move_to(scan.position(k))
-                beam = read_beam(scanner)
-                for i, disc in discs.items():
-                    if beam_hits_wafer(beam.emitter, beam, disc.read()):
-                        blocked[k] = True
-                        first[i] = k if first[i] is None else first[i]
-                        last[i] = k
+                for i in hits(read_beam(scanner)):
+                    blocked[k] = True
+                    first[i] = k if first[i] is None else first[i]
+                    last[i] = k
                 if progress is not None and k % 500 == 0:
                     progress(k, count)
         finally:
@@ -113,14 +114,23 @@ def document_stepper(scene, mover):
     return stepper
 
 
+def document_stepper(scene, mover):
+    """The ``document`` engine: the paper's procedure through the document API, every wafer's
+    placement read back at every step and tested exactly."""
+
+    def prepare(layout, reachable):
+        discs = {i: _LocalDisc(scene.wafers[i], layout.wafers[i]) for i in reachable}
+        return lambda beam: [i for i, disc in discs.items()
+                             if beam_hits_wafer(beam.emitter, beam, disc.read())]
+
+    return stepper_through_document(scene, mover, prepare)
+
+
 def scan_document(doc, engine="analytic", progress=None, parameters=None, check=None):
     """Read the document and scan it. ``parameters`` (a core ``mcs.Parameters``) override the
     document's own scan settings; ``check(layout)`` may refuse the layout before the scan.
     Returns the core ``ScanResult``."""
-    from ..core.mcs import apply_parameters
-
     scene = DocumentScene.of(doc)
-    mover = None
     if scene.robots:
         from .robot import robot_lift_axis
         layout = read_layout(doc, scene, lift_axis=robot_lift_axis(scene))
