@@ -175,6 +175,32 @@ def cmd_crosscheck(args):
     return 0 if check.ok else 1
 
 
+def cmd_watch(args):
+    import time
+
+    from .cad.layout_files import opened_layout
+    from .cad.mcs_watch import document_scanner
+    from .core.mcs_link import McsLink
+
+    folder = Path(args.folder)
+    if not folder.is_dir():
+        raise InputError(folder, None, "no such folder")
+    layout = args.layout or paper_scenario()
+    with opened_layout(layout) as doc:
+        link = McsLink(folder, document_scanner(doc, folder, args.engine),
+                       log=lambda text: print(text, flush=True))
+        if args.once:
+            link.poll()
+            return 0
+        print(f"watching {folder / COMMANDS} (layout {layout}); Ctrl-C to stop", flush=True)
+        try:
+            while True:
+                link.poll()
+                time.sleep(args.poll)
+        except KeyboardInterrupt:
+            return 0
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         # argparse's own usage errors: exit 2 like every other input error.
@@ -216,6 +242,16 @@ def build_parser():
     check.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
     check.add_argument("--json", action="store_true", help="print one JSON object")
     check.set_defaults(run=cmd_crosscheck)
+
+    watch = sub.add_parser("watch", help="the MCS link: carry out commands.txt in a folder")
+    watch.add_argument("folder", metavar="DIR")
+    watch.add_argument("--layout", metavar="INPUT", help="scenario .toml or layout .FCStd "
+                                                         "(default: the paper's experiment)")
+    watch.add_argument("--once", action="store_true", help="carry out what is pending, then exit")
+    watch.add_argument("--engine", choices=engines, default="analytic")
+    watch.add_argument("--poll", type=float, default=0.1, metavar="SECONDS",
+                       help="how often commands.txt is read (default 0.1 s)")
+    watch.set_defaults(run=cmd_watch)
     return parser
 
 

@@ -205,15 +205,15 @@ def _mm(x):
     return "" if x is None else f"{x:.3f}"
 
 
-def format_results(seq, command, result=None, error=None, timestamp=None):
+def format_results(seq, command, result=None, error=None, timestamp=None, message=""):
     """results.txt text: ``key = value`` header lines, a blank line, then the tab-separated table
     (slot, slot_z, wafer, in, out, diff, state) in millimetres to the micrometre. With ``error``
-    the status is ``error`` and there is no table."""
+    the status is ``error``, the message is the error, and there is no table."""
     if timestamp is None:
         timestamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     header = [("seq", "" if seq is None else str(seq)), ("command", command),
               ("status", "error" if error else "ok"),
-              ("message", " ".join(str(error).split()) if error else ""),
+              ("message", " ".join(str(error or message).split())),
               ("code", result.code if result and not error else ""),
               ("e87", result.e87 if result and not error else ""),
               ("timestamp", timestamp)]
