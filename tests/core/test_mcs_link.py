@@ -153,3 +153,12 @@ def test_soak_every_command_once_and_memory_flat(tmp_path, count):
     assert scan.calls == list(range(1, count + 1))
     assert len(list((tmp_path / "history").iterdir())) == count
     assert peaks[-1] - peaks[0] < 200_000  # bytes: no growth with the number of commands
+
+
+def test_leftovers_of_a_killed_writer_are_cleared_at_start(tmp_path):
+    (tmp_path / ".results.txt.abc123.tmp").write_text("half")
+    (tmp_path / "history").mkdir()
+    (tmp_path / "history" / ".results-00000003.txt.x.tmp").write_text("half")
+    (tmp_path / "notes.tmp").write_text("the user's")
+    link(tmp_path)
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["history", "notes.tmp"]

@@ -5,10 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..core.errors import InputError
 from ..core.mcs import PARAMETERS, Parameters, read_parameters
 from .document_scan import scan_document
-from .reader import document_source
 
 
 def document_scanner(doc, folder, engine="analytic"):
@@ -22,12 +20,7 @@ def document_scanner(doc, folder, engine="analytic"):
         mode = "fast" if command.name == "SCF" else "slow"
         parameters = Parameters({**parameters.values, "mode": mode}, parameters.lines,
                                 parameters.source)
-        try:
-            return scan_document(doc, engine, progress=lambda done, total: should_stop(),
-                                 parameters=parameters)
-        except ReferenceError as exc:
-            # An object was deleted while the scan read the document (a user editing it).
-            raise InputError(document_source(doc), None,
-                             f"the document changed during the scan: {exc}") from None
+        return scan_document(doc, engine, progress=lambda done, total: should_stop(),
+                             parameters=parameters)
 
     return scan

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 import FreeCAD as App
 import Part
 
+from ..core.errors import InputError
+
 MAX_DEPTH = 32  # links can form cycles; no real assembly nests deeper
 
 
@@ -35,15 +37,38 @@ class Instance:
             names.append(self.root.Document.getObject(part).Label)
         return "/".join(names)
 
+    def _gone(self):
+        return InputError(self._source, None, f"{self._where} is no longer in the document: it "
+                                              "was deleted or unlinked while it was being read")
+
     def placement(self):
-        """Global placement of the instance (App.Placement)."""
-        if not self.sub:
-            return App.Placement(self.root.Placement)
-        return self.root.getSubObject(self.sub, retType=3)
+        """Global placement of the instance (App.Placement). InputError if the object has left
+        the document since it was found (deleted, or a link broken)."""
+        try:
+            if not self.sub:
+                return App.Placement(self.root.Placement)
+            placement = self.root.getSubObject(self.sub, retType=3)
+        except ReferenceError:
+            raise self._gone() from None
+        if placement is None:
+            raise self._gone()
+        return placement
 
     def shape(self):
         """Global shape of the instance, placed as the 3D view shows it."""
-        return Part.getShape(self.root, self.sub)
+        try:
+            shape = Part.getShape(self.root, self.sub)
+        except ReferenceError:
+            raise self._gone() from None
+        if shape.isNull():
+            raise self._gone()
+        return shape
+
+    def __post_init__(self):
+        # Kept at creation: a deleted object can no longer tell its name or its document's.
+        object.__setattr__(self, "_where", self.path)
+        doc = self.root.Document
+        object.__setattr__(self, "_source", doc.FileName or doc.Name)
 
 
 def scene_roots(doc):

@@ -85,6 +85,16 @@ class McsLink:
         self.scan = scan
         self.log = log or (lambda text: print(text, file=sys.stderr))
         self._warned = set()
+        self._remove_leftovers()
+
+    def _remove_leftovers(self):
+        """Temporary files of a writer killed mid-write (atomic_write_text's ``.NAME.*.tmp``):
+        the real files were never touched by them, so they can go."""
+        for folder in (self.folder, self.folder / HISTORY):
+            if folder.is_dir():
+                for entry in folder.glob(".*.tmp"):
+                    if entry.name.startswith((f".{RESULTS}.", ".results-")):
+                        entry.unlink(missing_ok=True)
 
     def pending(self):
         """Commands not answered yet, in order."""
