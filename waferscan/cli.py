@@ -201,6 +201,38 @@ def cmd_watch(args):
             return 0
 
 
+def cmd_bench(args):
+    import tempfile
+
+    from . import bench
+
+    def show(row):
+        if not args.json:
+            mark = " (extrapolated)" if row["extrapolated"] else ""
+            print(f"{row['workload']:<8} {row['engine']:<30} {row['steps']:>9} steps "
+                  f"{row['wafers']:>5} wafers {row['seconds']:>11.6f} s{mark}", flush=True)
+
+    rows = bench.run_bench(paper_scenario(), quick=args.quick, progress=show)
+    with tempfile.TemporaryDirectory() as folder:
+        layout = bench.saved_layout(paper_scenario(), folder)
+        paper = next(r for r in rows if r["workload"] == "paper")
+        for row in bench.startup(layout, paper["steps"], paper["wafers"],
+                                 repeats=3 if args.quick else 7):
+            rows.append(row)
+            show(row)
+        gui = None if args.no_gui else bench.gui_animation(layout)
+    checks = bench.contract(rows, gui)
+    if args.json:
+        print(json.dumps({"results": rows, "gui_animation": gui,
+                          "contract": [{"met": ok, "figure": text} for ok, text in checks]},
+                         indent=2))
+    else:
+        print()
+        for ok, text in checks:
+            print(f"[{'met' if ok else 'NOT MET'}] {text}")
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         # argparse's own usage errors: exit 2 like every other input error.
@@ -252,6 +284,12 @@ def build_parser():
     watch.add_argument("--poll", type=float, default=0.1, metavar="SECONDS",
                        help="how often commands.txt is read (default 0.1 s)")
     watch.set_defaults(run=cmd_watch)
+
+    bench = sub.add_parser("bench", help="the engines side by side (SPEC §9)")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.add_argument("--quick", action="store_true", help="smaller sweeps (about 10 s)")
+    bench.add_argument("--no-gui", action="store_true", help="skip the GUI animation measure")
+    bench.set_defaults(run=cmd_bench)
     return parser
 
 

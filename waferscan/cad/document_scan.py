@@ -131,11 +131,9 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
     document's own scan settings; ``check(layout)`` may refuse the layout before the scan.
     Returns the core ``ScanResult``."""
     scene = DocumentScene.of(doc)
-    if scene.robots:
-        from .robot import robot_lift_axis
-        layout = read_layout(doc, scene, lift_axis=robot_lift_axis(scene))
-    else:
-        layout = read_layout(doc, scene)
+    # The scanner's LiftAxis says how the scan moves it (the robot's builder writes its lift
+    # joint's axis there): reading needs no kinematics, so pinocchio stays unimported here.
+    layout = read_layout(doc, scene)
     if parameters is not None:
         layout = apply_parameters(layout, parameters)
     if check is not None:

@@ -126,14 +126,12 @@ def _settings(scene, beam, carriers):
     return scan, mapping, obj.Carrier or None
 
 
-def read_layout(doc, scene=None, lift_axis=None):
-    """The document's layout as a core ``Layout``. ``lift_axis`` overrides the scanner's own
-    (a robot's lift joint gives it)."""
+def read_layout(doc, scene=None):
+    """The document's layout as a core ``Layout``."""
     scene = scene or DocumentScene.of(doc)
     scanner = scene.scanner()
     beam = beam_from(scanner)
-    if lift_axis is None:
-        lift_axis = unit(App.Vector(roles.role_holder(scanner.obj).LiftAxis))
+    lift_axis = unit(App.Vector(roles.role_holder(scanner.obj).LiftAxis))
     carriers = [carrier_from(i) for i in scene.carriers]
     wafers = [wafer_from(i, name) for i, name in zip(scene.wafers, _unique_names(scene.wafers))]
     scan, mapping, chosen = _settings(scene, beam, carriers)

@@ -69,7 +69,7 @@ def apply_pose(robot, holder, links, scanner, joints):
     scanner.Placement = placement_of(*placements[SCANNER_LINK])
 
 
-def build_robot(doc, spec, beam, lift_axis=None):
+def build_robot(doc, spec, beam):
     """Add the robot of a ``RobotSpec`` to the document, its start pose taught so that its beam
     lies on ``beam``; returns the robot's App::Part."""
     robot = WaferRobot(spec.urdf)
@@ -134,6 +134,9 @@ class RobotMover:
             raise scene.error(f"the robot {self.holder.Label} carries no scanner")
         self.base = base_of(instance.placement())
         self.axis = self.robot.lift_axis(self.base)
+        if max(abs(a - b) for a, b in zip(self.axis, layout.lift_axis)) > 1e-9:
+            raise scene.error(f"the scanner's LiftAxis {tuple(layout.lift_axis)} is not the "
+                              f"robot's lift axis {self.axis}")
         self.z0 = self.robot.beam(self.start, self.base)[0][2]
         lift = self.robot.lift_joint
         low, high = self.robot.limits[lift]
@@ -154,10 +157,3 @@ class RobotMover:
 
     def restore(self):
         apply_pose(self.robot, self.holder, self.links, self.scanner, self.start)
-
-
-def robot_lift_axis(scene):
-    """World direction of the robot's lift joint."""
-    instance = scene.robots[0]
-    holder = roles.role_holder(instance.obj)
-    return WaferRobot(_urdf(holder)).lift_axis(base_of(instance.placement()))

@@ -13,8 +13,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from .geometry import (accessible, beam_hits_wafer, beam_hits_wafers, paper_beam_hits_wafer,
                        translation_range, wafer_columns)
 
@@ -38,6 +36,8 @@ class ExactHits:
 
 def runs_from_blocked(blocked):
     """Maximal runs of True in a boolean sequence, as (first, last) index pairs."""
+    import numpy as np  # numpy (~70 ms to import) only where arrays are used: see analytic_engine
+
     blocked = np.asarray(blocked, dtype=bool)
     if blocked.size == 0:
         return ()
@@ -72,19 +72,19 @@ def _stepped(layout):
 
 
 def _step_by_step(layout, test, progress=None):
-    """The paper's procedure: for each step, for each reachable wafer, test."""
+    """The paper's procedure (its steps 4a and 4b): at each step, for each wafer of the layout,
+    the accessibility check at that position, then, if it passed, the intersection test."""
     _stepped(layout)
     scan = layout.scan
-    reachable = reachable_wafers(layout)
     count = scan.position_count
     first = [None] * len(layout.wafers)
     last = [None] * len(layout.wafers)
-    blocked = np.zeros(count, dtype=bool)
+    blocked = [False] * count
     for k in range(count):
         z = scan.position(k)
         emitter = layout.emitter_at(z)
-        for i in reachable:
-            if test(emitter, layout.beam, layout.wafers[i]):
+        for i, wafer in enumerate(layout.wafers):
+            if accessible(layout, wafer, z, z) and test(emitter, layout.beam, wafer):
                 blocked[k] = True
                 if first[i] is None:
                     first[i] = k
@@ -107,6 +107,8 @@ def paper_engine(layout, progress=None):
 
 def vector_engine(layout, progress=None, chunk_elements=2_000_000):
     """numpy over steps x wafers, in chunks of steps to bound memory."""
+    import numpy as np
+
     _stepped(layout)
     scan = layout.scan
     reachable = reachable_wafers(layout)
@@ -178,7 +180,8 @@ def _snap_to_grid(layout, wafer, edges):
 
 def analytic_engine(layout, progress=None):
     """Exact edges per wafer in closed form, then quantized onto the step grid: the cost does not
-    depend on the number of steps. With z_step = 0 it returns the continuous ``ExactHits``."""
+    depend on the number of steps. With z_step = 0 it returns the continuous ``ExactHits``.
+    Plain Python throughout: a headless scan need not pay for importing numpy."""
     scan = layout.scan
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")

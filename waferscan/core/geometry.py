@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 # Touching counts as blocked: the wafer is inflated by this much (mm) in every test (SPEC §2).
 TOUCH_TOLERANCE = 1e-9
 
@@ -77,6 +75,8 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
     Emitter coordinates ``ox, oy, oz`` and wafer columns ``cx ... thickness`` are arrays; the
     beam's direction and length are shared. Returns a boolean array.
     """
+    import numpy as np  # only the vector engine needs it; importing it costs ~70 ms
+
     ex, ey, ez = beam.direction
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         wx = ox - cx
@@ -115,6 +115,8 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
 
 def wafer_columns(wafers):
     """The wafers as numpy columns for ``beam_hits_wafers``: (cx, cy, cz, nx, ny, nz, R, t)."""
+    import numpy as np
+
     if not wafers:
         empty = np.zeros(0)
         return (empty,) * 8

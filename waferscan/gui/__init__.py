@@ -1,0 +1,1 @@
+"""The workbench GUI (FreeCADGui + Qt): shows results, never computes them."""
