@@ -256,6 +256,23 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     r2 = r * r
     t = wafer.thickness
 
+    if en == 0.0 and an != 0.0 and g == (0.0, 0.0, 0.0):
+        # The common case: a level wafer, the beam parallel to its faces, the lift along its
+        # axis. The region is a rectangle: the faces bound tau, the rim bounds lam alone.
+        qq, pq, c = _dot(q, q), _dot(p, q), _dot(p, p) - r2
+        if qq == 0.0:
+            if c > 0.0:
+                return None
+        else:
+            disc = pq * pq - qq * c
+            if disc < 0.0:
+                return None
+            root = math.sqrt(disc)
+            if (-pq + root) / qq < -tol or (-pq - root) / qq > beam.length + tol:
+                return None
+        low, high = (-tol - wn) / an, (t + tol - wn) / an
+        return (min(low, high), max(low, high))
+
     lines = [(1.0, 0.0, -tol), (1.0, 0.0, beam.length + tol)]
     if en == 0.0 and an == 0.0:
         if not -tol <= wn <= t + tol:
