@@ -13,8 +13,11 @@ class WaferScanWorkbench(FreeCADGui.Workbench):
 
     def Initialize(self):
         """Called once, when the workbench is first activated."""
-        self.appendToolbar("WaferScan", [])
-        self.appendMenu("&WaferScan", [])
+        import waferscan.gui.commands
+
+        names = waferscan.gui.commands.register()
+        self.appendToolbar("WaferScan", names)
+        self.appendMenu("&WaferScan", names)
 
     def GetClassName(self):
         return "Gui::PythonWorkbench"

@@ -20,6 +20,10 @@ class _Proxy:
 
     def __init__(self, obj):
         obj.Proxy = self
+        if App.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
+            # FreeCAD quirk: a FeaturePython made in a GUI session is drawn only once its view
+            # object has a proxy; 0 asks for the default view provider.
+            obj.ViewObject.Proxy = 0
 
     def dumps(self):
         return {"type": type(self).__name__}

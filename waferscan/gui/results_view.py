@@ -1,0 +1,149 @@
+"""Showing a scan's results: the table of the paper's Table 1 (also kept in the document as a
+Spreadsheet) and the slot-code dialog. Everything shown comes from a core ``ScanResult``;
+nothing is computed here."""
+
+from __future__ import annotations
+
+import csv
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+from ..core.mapping import E87, STATE_NAMES
+
+COLUMNS = ("Slot", "Slot Z [mm]", "Wafer", "IN [mm]", "OUT [mm]", "Diff [mm]", "State")
+# Colours of the slot states (code -> RGB), used by the table, the strip and the 3D highlight.
+STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (240, 170, 60),
+                 4: (120, 170, 230), 5: (200, 120, 220), 6: (250, 220, 70)}
+SHEET = "ScanResults"
+
+
+def _mm(value):
+    return "" if value is None else f"{value:.3f}"
+
+
+def table_cells(result):
+    """The table's rows as text cells, with each row's state code."""
+    codes = {s.slot: s.state for s in result.slot_map.slots}
+    rows = []
+    for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
+        rows.append(([str(slot), f"{seat:.2f}", ", ".join(wafers) or "-", _mm(z_in), _mm(z_out),
+                      _mm(diff), state], codes[slot]))
+    return rows
+
+
+def store_in_document(doc, result):
+    """Keep the results in the document as a Spreadsheet, so they survive save and reload."""
+    sheet = doc.getObject(SHEET) or doc.addObject("Spreadsheet::Sheet", SHEET)
+    sheet.clearAll()
+    for column, title in enumerate(COLUMNS):
+        sheet.set(f"{chr(65 + column)}1", title)
+    for row, (cells, _) in enumerate(table_cells(result), start=2):
+        for column, text in enumerate(cells):
+            if text:
+                sheet.set(f"{chr(65 + column)}{row}", f"'{text}" if column in (2, 6) else text)
+    last = len(table_cells(result)) + 3
+    sheet.set(f"A{last}", "Code")
+    sheet.set(f"B{last}", f"'{result.code}")
+    sheet.setAlias(f"B{last}", "code")
+    sheet.set(f"A{last + 1}", "E87")
+    sheet.set(f"B{last + 1}", f"'{result.e87}")
+    doc.recompute()
+    return sheet
+
+
+class ResultsTable(QtGui.QDialog):
+    """Slot, slot Z, wafer, IN, OUT, diff and state, coloured by state. Selecting a row selects
+    its wafer in the 3D view; the table can be exported as CSV."""
+
+    def __init__(self, result, doc=None, parent=None):
+        super().__init__(parent or Gui.getMainWindow())
+        self.setWindowTitle("WaferScan results")
+        self.result, self.doc = result, doc
+        self.table = QtGui.QTableWidget(0, len(COLUMNS), self)
+        self.table.setHorizontalHeaderLabels(list(COLUMNS))
+        self.table.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
+        self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        for cells, code in table_cells(result):
+            row = self.table.rowCount()
+            self.table.insertRow(row)
+            for column, text in enumerate(cells):
+                item = QtGui.QTableWidgetItem(text)
+                if column == 6:
+                    item.setBackground(QtGui.QColor(*STATE_COLOURS[code]))
+                if column in (0, 1, 3, 4, 5):
+                    item.setTextAlignment(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter)
+                self.table.setItem(row, column, item)
+        self.table.resizeColumnsToContents()
+        self.table.itemSelectionChanged.connect(self._select_wafer)
+        export = QtGui.QPushButton("Export CSV…", self)
+        export.setToolTip("Save the table as a CSV file")
+        export.clicked.connect(self._export)
+        layout = QtGui.QVBoxLayout(self)
+        layout.addWidget(QtGui.QLabel(f"Slot code <b>{result.code}</b> (engine {result.engine})"))
+        layout.addWidget(self.table)
+        layout.addWidget(export)
+        self.resize(760, 620)
+
+    def rows(self):
+        """The table's text, row by row (what a user sees)."""
+        return [[self.table.item(r, c).text() for c in range(self.table.columnCount())]
+                for r in range(self.table.rowCount())]
+
+    def _select_wafer(self):
+        if self.doc is None:
+            return
+        Gui.Selection.clearSelection()
+        for index in self.table.selectionModel().selectedRows():
+            for name in self.table.item(index.row(), 2).text().split(", "):
+                for obj in self.doc.getObjectsByLabel(name):
+                    Gui.Selection.addSelection(obj)
+
+    def export_csv(self, path):
+        with open(path, "w", newline="", encoding="utf-8") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(COLUMNS)
+            writer.writerows(self.rows())
+
+    def _export(self):
+        path, _ = QtGui.QFileDialog.getSaveFileName(self, "Export results", "results.csv",
+                                                    "CSV (*.csv)")
+        if path:
+            self.export_csv(path)
+            App.Console.PrintMessage(f"WaferScan: results exported to {path}\n")
+
+
+class SlotCodeDialog(QtGui.QDialog):
+    """The slot code in large type, a strip of per-slot cells coloured by state (as the paper's
+    Fig. 7), the SEMI E87 map, and a button to copy the code."""
+
+    def __init__(self, result, parent=None):
+        super().__init__(parent or Gui.getMainWindow())
+        self.setWindowTitle("WaferScan slot code")
+        self.result = result
+        self.code_label = QtGui.QLabel(result.code, self)
+        font = self.code_label.font()
+        font.setPointSize(22)
+        font.setFamily("Monospace")
+        self.code_label.setFont(font)
+        self.code_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        strip = QtGui.QHBoxLayout()
+        strip.setSpacing(2)
+        for slot in result.slot_map.slots:
+            cell = QtGui.QLabel(f"{slot.slot}\n{slot.state}", self)
+            cell.setAlignment(QtCore.Qt.AlignCenter)
+            cell.setMinimumSize(26, 44)
+            r, g, b = STATE_COLOURS[slot.state]
+            cell.setStyleSheet(f"background: rgb({r},{g},{b}); border: 1px solid #777;")
+            cell.setToolTip(f"slot {slot.slot}: {STATE_NAMES[slot.state]}, E87 {E87[slot.state]}")
+            strip.addWidget(cell)
+        copy = QtGui.QPushButton("Copy code", self)
+        copy.clicked.connect(lambda: QtGui.QApplication.clipboard().setText(result.code))
+        legend = "   ".join(f"{code} {name}" for code, name in STATE_NAMES.items())
+        layout = QtGui.QVBoxLayout(self)
+        layout.addWidget(self.code_label)
+        layout.addLayout(strip)
+        layout.addWidget(QtGui.QLabel(f"SEMI E87 slot map: {result.e87}", self))
+        layout.addWidget(QtGui.QLabel(legend, self))
+        layout.addWidget(copy)
