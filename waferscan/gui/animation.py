@@ -5,7 +5,6 @@ animation shows it, it does not compute it."""
 
 from __future__ import annotations
 
-import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
