@@ -162,3 +162,14 @@ def test_leftovers_of_a_killed_writer_are_cleared_at_start(tmp_path):
     (tmp_path / "notes.tmp").write_text("the user's")
     link(tmp_path)
     assert sorted(p.name for p in tmp_path.rglob("*")) == ["history", "notes.tmp"]
+
+
+def test_seq_zero_is_a_seq_like_any_other(tmp_path):
+    def mcs_sends_stop(command):
+        if command.seq == 0:
+            write(tmp_path, "1 STOP\n", "a")
+
+    scan = FakeScan(during=mcs_sends_stop)
+    write(tmp_path, "0 SCF\n")
+    assert [(a.seq, a.status) for a in link(tmp_path, scan).poll()] == [(0, "error"), (1, "ok")]
+    assert link(tmp_path, scan).poll() == [] and scan.calls == [0]

@@ -114,7 +114,8 @@ class McsLink:
         """Carry out every pending command; returns the answers given."""
         answers = []
         for command in self.pending():
-            if command.seq <= (answered_seq(self.folder) or -1):
+            done = answered_seq(self.folder)
+            if done is not None and command.seq <= done:
                 continue  # answered meanwhile (a STOP answered during a scan)
             answers += self._carry_out(command)
         return answers
