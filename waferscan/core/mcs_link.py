@@ -17,6 +17,7 @@ results.txt.
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 from dataclasses import dataclass
@@ -48,19 +49,21 @@ class Answer:
 
 
 def answered_seq(folder):
-    """The highest seq answered so far in the folder (results.txt or history), or None."""
+    """The highest seq answered so far in the folder, or None: results.txt says it; the history
+    folder is read only when results.txt is missing or unreadable (listing it at every poll
+    would cost more with every answer kept)."""
     folder = Path(folder)
-    seqs = []
     try:
         match = _SEQ.search((folder / RESULTS).read_text(encoding="utf-8-sig"))
         if match:
-            seqs.append(int(match.group(1)))
+            return int(match.group(1))
     except (OSError, UnicodeDecodeError):
         pass
+    seqs = []
     history = folder / HISTORY
     if history.is_dir():
-        for entry in history.iterdir():
-            match = _HISTORY_NAME.match(entry.name)
+        for name in os.listdir(history):
+            match = _HISTORY_NAME.match(name)
             if match:
                 seqs.append(int(match.group(1)))
     return max(seqs, default=None)
