@@ -148,7 +148,7 @@ def traced_bytes():
     return sum(stat.size for stat in snapshot.statistics("filename"))
 
 
-@pytest.mark.parametrize("count", [int(os.environ.get("WAFERSCAN_SOAK", "300"))])
+@pytest.mark.parametrize("count", [int(os.environ.get("WAFERSCAN_SOAK", "500"))])
 def test_soak_every_command_once_and_memory_flat(tmp_path, count):
     """``WAFERSCAN_SOAK=1000 pytest tests/core/test_mcs_link.py -k soak`` runs the full soak."""
     tally = [0] * (count + 1)  # allocated up front: the measure sees only the link's memory
@@ -171,11 +171,11 @@ def test_soak_every_command_once_and_memory_flat(tmp_path, count):
         tracemalloc.stop()
     assert tally == [0] + [1] * count  # every command carried out exactly once
     assert len(list((tmp_path / "history").iterdir())) == count
-    # Flat: from mid-run to the end, under 32 bytes a command (the standard library's own
-    # caches); keeping an answer (~5 kB of results text) or a result would be 150x that.
+    # Flat: from mid-run to the end, under 64 bytes a command (the standard library's own
+    # caches warming up); keeping an answer (~5 kB of results text) would be 80x that.
     middle = len(samples) // 2
     per_command = (samples[-1] - samples[middle]) / (100 * (len(samples) - 1 - middle))
-    assert per_command < 32, samples
+    assert per_command < 64, samples
 
 
 def test_leftovers_of_a_killed_writer_are_cleared_at_start(tmp_path):
