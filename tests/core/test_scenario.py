@@ -398,9 +398,6 @@ def test_unreadable_files(tmp_path):
 
 # --- bugs found ----------------------------------------------------------------------------
 
-@pytest.mark.xfail(strict=True, reason="BUG: paper.toml with z_step = 1e-320 (or final_z = "
-                   "1e308): check_scan_range computes int(inf), OverflowError instead of an "
-                   "InputError on the [scan] line")
 @pytest.mark.parametrize("old, new", [("z_step = 0.05", "z_step = 1e-320"),
                                       ("final_z = 550.0", "final_z = 1e308")])
 def test_extreme_scan_ranges_are_input_errors(old, new):

@@ -53,7 +53,9 @@ def read_text(path):
 
 def _content_lines(text):
     """(line number, text without comment, stripped) for each non-blank line."""
-    for number, line in enumerate(text.splitlines(), start=1):
+    # Only LF ends a line (SPEC §5: LF or CRLF); str.splitlines would also break at CR alone,
+    # form feeds and Unicode separators, and miscount the lines.
+    for number, line in enumerate(text.split("\n"), start=1):
         content = line.split("#", 1)[0].strip()
         if content:
             yield number, content
@@ -127,7 +129,9 @@ def apply_parameters(layout, parameters):
     try:
         schema.check_scan_range(scan.start_z, scan.final_z, scan.z_step)
     except ValueError as exc:
-        key = next((k for k in ("final_z", "start_z", "z_step") if k in v), None)
+        order = ("z_step", "final_z", "start_z") \
+            if 0.0 <= scan.final_z - scan.start_z <= schema.MAX_TRAVEL else ("final_z", "start_z", "z_step")
+        key = next((k for k in order if k in v), None)
         if key is None:
             raise InputError(parameters.source, None, str(exc)) from None
         raise parameters.error(key, str(exc)) from None

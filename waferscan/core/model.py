@@ -21,7 +21,7 @@ GRID_EPSILON = 1e-9
 def unit(vector, what="vector"):
     """The vector scaled to length 1; ValueError for a zero or non-finite vector."""
     x, y, z = (float(c) for c in vector)
-    norm = math.sqrt(x * x + y * y + z * z)
+    norm = math.hypot(x, y, z)  # no underflow or overflow for tiny or huge components
     if not math.isfinite(norm) or norm == 0.0:
         raise ValueError(f"{what} must be a finite, non-zero vector, got {list(vector)}")
     return (x / norm, y / norm, z / norm)

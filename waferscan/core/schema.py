@@ -13,6 +13,8 @@ from .model import DIRECTIONS, MODES
 
 # A scan is at most this many stepped positions (0.001 mm over 100 m); more is a typo.
 MAX_POSITIONS = 100_000_000
+# A travel longer than this (mm) is a typo in the range, not a step too fine for it.
+MAX_TRAVEL = 100_000.0
 
 
 def _as_number(value):
@@ -107,7 +109,8 @@ def check_scan_range(start_z, final_z, z_step):
     """Raise ValueError unless the scan's range and step make a sensible scan."""
     if final_z < start_z:
         raise ValueError(f"final_z ({final_z:g}) is below start_z ({start_z:g})")
-    if z_step > 0.0 and (final_z - start_z) / z_step + 1 > MAX_POSITIONS:
-        positions = int((final_z - start_z) / z_step) + 1
-        raise ValueError(f"z_step {z_step:g} over {final_z - start_z:g} mm makes {positions:,} "
+    if z_step > 0.0 and not (final_z - start_z) / z_step + 1 <= MAX_POSITIONS:
+        positions = (final_z - start_z) / z_step + 1
+        positions = f"{positions:,.0f}" if math.isfinite(positions) else "too many"
+        raise ValueError(f"z_step {z_step:g} over {final_z - start_z:g} mm makes {positions} "
                          f"positions; at most {MAX_POSITIONS:,} (use z_step = 0 for exact edges)")
