@@ -52,10 +52,15 @@ def _write(path, text):
         raise InputError(path, None, f"cannot write: {exc.strerror}") from None
 
 
-def _check_engine(layout, engine, source):
+def _check_engine(layout, engine, source, parameters=None):
+    """Exact edges (z_step = 0) come from the analytic engine only; the error names the line
+    that set z_step, in the parameters file when it came from there."""
     if layout.scan.exact and engine != "analytic":
-        raise InputError(source, None, f"z_step = 0 asks for exact edges, which only the "
-                                       f"analytic engine gives (not {engine})")
+        message = (f"z_step = 0 asks for exact edges, which only the analytic engine gives "
+                   f"(not {engine})")
+        if parameters is not None and "z_step" in parameters.values:
+            raise InputError(parameters.source, parameters.lines.get("z_step"), message)
+        raise InputError(source, None, message)
 
 
 def _scan_input(path, engine, parameters=None):
@@ -68,7 +73,7 @@ def _scan_input(path, engine, parameters=None):
     with opened_layout(path) as doc:
         try:
             return scan_document(doc, engine, progress=progress, parameters=parameters,
-                                 check=lambda layout: _check_engine(layout, engine, path))
+                                 check=lambda layout: _check_engine(layout, engine, path, parameters))
         finally:
             progress.close()
 

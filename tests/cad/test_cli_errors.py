@@ -117,10 +117,6 @@ def test_exact_mode_needs_the_analytic_engine(tmp_path):
     assert data["runs"][0]["diff"] == pytest.approx(0.7, abs=1e-8)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: 'scan paper.toml --params P --engine loop' with P = "
-                   "'z_step = 0\\n' blames paper.toml (whose z_step is 0.05) with no line: "
-                   "'waferscan: error: .../paper.toml: z_step = 0 asks for exact edges...'; "
-                   "expected it to name P:1, where z_step = 0 was set")
 def test_exact_mode_error_names_the_parameters_line(tmp_path):
     params = tmp_path / "parameters.txt"
     params.write_text("z_step = 0\n")

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import FreeCAD as App
 
+from ..core import schema
 from ..core.errors import InputError
 from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
                           unit)
@@ -77,8 +78,14 @@ def carrier_from(instance):
     anchor = instance.placement().multiply(holder.SlotOrigin)
     back = anchor.Rotation.multVec(App.Vector(0, 1, 0))
     norm = math.hypot(back.x, back.y)
+    label = holder.Label if instance.obj is holder else instance.obj.Label
+    try:
+        schema.carrier_name(label)
+    except ValueError as exc:
+        raise InputError(document_source(instance.root.Document), None,
+                         f"{instance.path}: {exc}; rename it") from None
     return Carrier(
-        name=holder.Label if instance.obj is holder else instance.obj.Label,
+        name=label,
         slot_count=int(holder.SlotCount), pitch=_value(holder.Pitch),
         first_slot_z=anchor.Base.z, center=(anchor.Base.x, anchor.Base.y),
         wafer_diameter=_value(holder.WaferDiameter), wafer_thickness=_value(holder.WaferThickness),

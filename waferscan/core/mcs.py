@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
+import stat
 import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -116,14 +117,18 @@ def apply_parameters(layout, parameters):
                          f"the layout has several carriers ({', '.join(names)}): "
                          "say which with carrier = NAME")
     layout = replace(layout, scan=scan, mapping=mapping, carrier=chosen)
-    carrier = layout.scanned_carrier
+    carrier = before = layout.scanned_carrier
     nominal = {field: v[key] for key, field in _CARRIER_FIELDS.items() if key in v}
     if nominal:
         carrier = replace(carrier, **nominal)
         layout = replace(layout, carriers=tuple(carrier if c.name == chosen else c
                                                 for c in layout.carriers))
     if carrier.wafer_thickness >= carrier.pitch:
-        key = "wafer_thickness" if "wafer_thickness" in v else "slot_pitch"
+        # Blame the line that broke it: a new pitch under the layout's own thickness.
+        pitch_broke_it = ("slot_pitch" in v and carrier.pitch != before.pitch
+                          and carrier.wafer_thickness == before.wafer_thickness)
+        key = "wafer_thickness" if "wafer_thickness" in v and not pitch_broke_it \
+            else "slot_pitch"
         raise parameters.error(key, f"wafer thickness {carrier.wafer_thickness:g} must be "
                                     f"less than the pitch {carrier.pitch:g}")
     try:
@@ -233,12 +238,25 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
     return "\n".join(lines) + "\n"
 
 
+def _mode_for(path):
+    """The permission bits a replacement of ``path`` gets: those of the file it replaces, or
+    for a new file what ``open`` would give (0666 less the umask)."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        umask = os.umask(0o022)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
 def atomic_write_text(path, text):
     """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
     half of one: write a temporary file beside it, flush it to disk, then rename over."""
     path = Path(path)
+    mode = _mode_for(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode, or the umask's
         with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
             handle.write(text)
             handle.flush()

@@ -36,39 +36,107 @@ WAFER_STATES = ("present", "cross", "double", "thin", "misplaced", "protruding",
 
 _TABLES = {"scan", "sensor", "robot", "mapping", "carrier", "wafer"}
 _ARRAY_TABLES = {"carrier", "wafer"}
-_HEADER = re.compile(r"^\s*(\[\[?)\s*([A-Za-z0-9_.\-\"' ]+?)\s*(\]\]?)\s*(#.*)?$")
-_KEY = re.compile(r"^\s*([A-Za-z0-9_\-]+|\"[^\"]*\")\s*=")
+_BARE_KEY = re.compile(r"[A-Za-z0-9_\-]+")
+
+
+def _key_path(line, i):
+    """The dotted key starting at ``line[i]`` as a tuple of its parts (quotes taken off) and the
+    index after it, or None where there is no key."""
+    parts = []
+    while True:
+        while i < len(line) and line[i] in " \t":
+            i += 1
+        if i < len(line) and line[i] in "\"'":
+            quote, i, part = line[i], i + 1, []
+            while i < len(line) and line[i] != quote:
+                if quote == '"' and line[i] == "\\" and i + 1 < len(line):
+                    i += 1
+                part.append(line[i])
+                i += 1
+            if i == len(line):
+                return None
+            parts.append("".join(part))
+            i += 1
+        else:
+            bare = _BARE_KEY.match(line, i)
+            if not bare:
+                return None
+            parts.append(bare.group())
+            i = bare.end()
+        while i < len(line) and line[i] in " \t":
+            i += 1
+        if i < len(line) and line[i] == ".":
+            i += 1
+            continue
+        return tuple(parts), i
 
 
 class _Lines:
     """Where each table and key of a TOML file starts, for error messages. tomllib gives values
-    without positions; this scan of the raw lines is enough for the flat tables scenarios use."""
+    without positions, so this reads the raw text as TOML does: only LF (or CRLF) ends a line,
+    strings (multi-line ones too), comments and brackets are skipped, headers may be quoted."""
 
     def __init__(self, text):
         self.keys = {}
         self.tables = {}
         counters = {}
         table, index = None, None
-        in_string = False
-        for number, line in enumerate(text.splitlines(), start=1):
-            if line.count('"""') % 2 == 1 or line.count("'''") % 2 == 1:
-                in_string = not in_string
-                continue
-            if in_string:
-                continue
-            header = _HEADER.match(line)
-            if header:
-                table = header.group(2).strip()
-                if header.group(1) == "[[":
-                    index = counters.get(table, 0)
-                    counters[table] = index + 1
+        pending, depth = None, 0  # an open multi-line string's quotes; open brackets
+        for number, line in enumerate(text.split("\n"), start=1):
+            line = line[:-1] if line.endswith("\r") else line
+            i = 0
+            if pending is None and depth == 0:
+                stripped = len(line) - len(line.lstrip(" \t"))
+                if line.startswith("[", stripped):
+                    double = line.startswith("[[", stripped)
+                    found = _key_path(line, stripped + (2 if double else 1))
+                    if found:
+                        name = ".".join(found[0])
+                        if double:
+                            index = counters.get(name, 0)
+                            counters[name] = index + 1
+                        else:
+                            index = None
+                        table = name
+                        self.tables.setdefault((table, index), number)
+                    continue
+                found = _key_path(line, stripped)
+                if found and line.startswith("=", found[1]):
+                    self.keys.setdefault((table, index, found[0][0]), number)
+                    i = found[1] + 1
+            pending, depth = self._skip_value(line, i, pending, depth)
+
+    @staticmethod
+    def _skip_value(line, i, pending, depth):
+        """Read a value's text to the end of the line; the state it leaves open."""
+        while i < len(line):
+            if pending:
+                if pending == '"""' and line[i] == "\\":
+                    i += 2
+                elif line.startswith(pending, i):
+                    i += 3
+                    while i < len(line) and line[i] == pending[0]:
+                        i += 1  # up to two quotes may end the string's content
+                    pending = None
                 else:
-                    index = None
-                self.tables.setdefault((table, index), number)
+                    i += 1
                 continue
-            key = _KEY.match(line)
-            if key:
-                self.keys.setdefault((table, index, key.group(1).strip('"')), number)
+            c = line[i]
+            if c == "#":
+                break
+            if c in "\"'":
+                if line.startswith(c * 3, i):
+                    pending, i = c * 3, i + 3
+                    continue
+                i += 1
+                while i < len(line) and line[i] != c:
+                    i += 2 if c == '"' and line[i] == "\\" else 1
+            elif c in "[{":
+                depth += 1
+            elif c in "]}":
+                depth = max(depth - 1, 0)
+            i += 1
+        return pending, depth
 
     def of(self, table, index=None, key=None):
         if key is not None and (table, index, key) in self.keys:
@@ -158,7 +226,7 @@ def parse_scenario(text, source="<scenario>", folder=None):
                                                    default=getattr(MappingTolerances(), k))
                                    for k, check in schema.MAPPING_KEYS.items()})
     scan_table = data.get("scan", {})
-    chosen = reader.value(scan_table, "scan", "carrier", schema.name)
+    chosen = reader.value(scan_table, "scan", "carrier", schema.carrier_name)
     if chosen is None:
         if len(carriers) > 1:
             raise reader.error(f"several carriers ({', '.join(names)}): say which one to scan "
@@ -214,7 +282,7 @@ def _carrier(reader, data, i):
     def get(key, check, **kw):
         return reader.value(data, "carrier", key, check, index=i, **kw)
 
-    name = get("name", schema.name, default=f"C{i + 1}")
+    name = get("name", schema.carrier_name, default=f"C{i + 1}")
     slots = get("slots", schema.count, default=25)
     pitch = get("pitch", schema.positive, default=10.0)
     diameter = get("wafer_diameter", schema.positive, default=300.0)
@@ -353,7 +421,7 @@ def _wafers(reader, data, carriers):
     for i, w in enumerate(data.get("wafer", [])):
         reader.table(w, "wafer", _WAFER_KEYS, i)
         if "slot" in w or "state" in w:
-            carrier_name = reader.value(w, "wafer", "carrier", schema.name, index=i,
+            carrier_name = reader.value(w, "wafer", "carrier", schema.carrier_name, index=i,
                                         default=carriers[0].name if len(carriers) == 1 else None)
             if carrier_name is None:
                 raise reader.error("several carriers: say which with carrier = \"NAME\"",
@@ -387,7 +455,7 @@ def _wafers(reader, data, carriers):
         center = reader.value(w, "wafer", "center", schema.vector(3), index=i, required=True)
         normal = unit(reader.value(w, "wafer", "normal", schema.vector(3, nonzero=True), index=i,
                                    default=(0.0, 0.0, 1.0)))
-        carrier_name = reader.value(w, "wafer", "carrier", schema.name, index=i)
+        carrier_name = reader.value(w, "wafer", "carrier", schema.carrier_name, index=i)
         if carrier_name is not None and carrier_name not in by_name:
             raise reader.error(f"no carrier named {carrier_name!r}", "wafer", i, "carrier")
         default = by_name[carrier_name] if carrier_name else carriers[0]

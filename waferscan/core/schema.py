@@ -66,6 +66,16 @@ def name(value):
     return value.strip()
 
 
+def carrier_name(value):
+    """A carrier's name: it is written to parameters.txt, where ``#`` starts a comment, so it
+    holds neither ``#`` nor a line break."""
+    text = name(value)
+    if "#" in text or len(text.splitlines()) != 1 or any(ord(c) < 32 for c in text):
+        raise ValueError(f"a carrier's name cannot hold '#' or control characters (it is "
+                         f"written to parameters.txt, where '#' starts a comment), got {value!r}")
+    return text
+
+
 def choice(options):
     def check(value):
         text = value.strip().lower() if isinstance(value, str) else value
