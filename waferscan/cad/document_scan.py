@@ -44,6 +44,9 @@ class ScannerMover:
     def restore(self):
         self.obj.Placement = self.original
 
+    def moved_objects(self):
+        return [self.obj]
+
 
 def mover_for(scene, layout):
     """What moves the scanner for this document: its robot's lift joint, or its placement."""

@@ -157,3 +157,6 @@ class RobotMover:
 
     def restore(self):
         apply_pose(self.robot, self.holder, self.links, self.scanner, self.start)
+
+    def moved_objects(self):
+        return [self.holder, *self.links.values(), self.scanner]

@@ -5,6 +5,7 @@ animation shows it, it does not compute it."""
 
 from __future__ import annotations
 
+import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
@@ -16,8 +17,13 @@ WAFER_HIT = (0.95, 0.55, 0.1)
 
 
 class ScanAnimation(QtCore.QObject):
-    """Play, pause and stop an animated scan of ``doc`` whose result is ``result``."""
+    """Play, pause and stop an animated scan of ``doc`` whose result is ``result``.
 
+    ``moved(k, z)`` is emitted at every frame; ``finished`` when the animation ends, at the last
+    position (``completed`` is then True), by ``stop()``, or by a fault (``fault`` says which).
+    """
+
+    moved = QtCore.Signal(int, float)
     finished = QtCore.Signal()
 
     def __init__(self, doc, result, steps_per_frame=10):
@@ -28,12 +34,19 @@ class ScanAnimation(QtCore.QObject):
         scene = DocumentScene.of(doc)
         self.mover = mover_for(scene, result.layout)
         self.beam = scene.scanner().obj
+        # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
+        # raises) is seen by name at every frame and ends the animation.
+        self.tracked = {o.Name: o.Label for o in self.mover.moved_objects()}
+        self.tracked.update({i.obj.Name: i.obj.Label for i in scene.wafers + scene.carriers})
         self.spans = [(run.bottom, run.top, run.wafers) for run in result.runs]
         self.wafers = {w.Label: w for w in doc.Objects
                        if getattr(w, "WaferScanRole", "") == "Wafer"}
         self.colours = {label: tuple(w.ViewObject.ShapeColor[:3])
                         for label, w in self.wafers.items() if w.ViewObject}
         self.k = 0
+        self.z = self.scan.position(0)
+        self.completed = False
+        self.fault = None
         self.timer = QtCore.QTimer(self)
         self.timer.timeout.connect(self._tick)
         self.bar = QtGui.QProgressBar()
@@ -41,26 +54,46 @@ class ScanAnimation(QtCore.QObject):
         self.bar.setMaximumWidth(220)
         self.bar.setFormat("scanning %p %")
         Gui.getMainWindow().statusBar().addPermanentWidget(self.bar)
+        self._ended = False
         self._lit = ()
 
+    def set_speed(self, steps_per_frame):
+        """Scan positions advanced per frame; takes effect at the next frame."""
+        self.steps_per_frame = max(1, int(steps_per_frame))
+
     def play(self):
-        self.timer.start(0)
+        """Start, or go on after a pause (an animation that ended stays ended)."""
+        if not self._ended:
+            self.timer.start(0)
 
     def pause(self):
         self.timer.stop()
 
     def stop(self):
         """Stop and put the robot back in its start pose."""
-        self.timer.stop()
-        self._light(())
-        self.mover.restore()
-        self._set_beam(BEAM_CLEAR)
-        Gui.getMainWindow().statusBar().removeWidget(self.bar)
-        self.finished.emit()
+        self._end()
 
     @property
     def running(self):
         return self.timer.isActive()
+
+    def _end(self, completed=False, fault=None):
+        if self._ended:
+            return
+        self._ended = True
+        self.timer.stop()
+        self.completed, self.fault = completed, fault
+        try:
+            self._light(())
+            self.mover.restore()
+            self._set_beam(BEAM_CLEAR)
+        except Exception as exc:  # the document changed under the animation
+            self.fault = self.fault or f"{type(exc).__name__}: {exc}"
+        Gui.getMainWindow().statusBar().removeWidget(self.bar)
+        self.bar.deleteLater()
+        if self.fault:
+            App.Console.PrintError(f"WaferScan: animation stopped: {self.fault}\n")
+        self.finished.emit()
 
     def _set_beam(self, colour):
         if self.beam.ViewObject is not None:
@@ -79,16 +112,25 @@ class ScanAnimation(QtCore.QObject):
         self._lit = names
 
     def _tick(self):
-        if self.k >= self.scan.position_count:
-            self.stop()
+        last = self.scan.position_count - 1
+        try:
+            gone = [label for name, label in self.tracked.items()
+                    if self.doc.getObject(name) is None]
+            if gone:
+                self._end(fault=f"{', '.join(gone)} left the document; run the scan again")
+                return
+            self.z = self.scan.position(self.k)
+            self.mover.move_to(self.z)
+            hit = next((names for bottom, top, names in self.spans
+                        if bottom <= self.z <= top), ())
+            self._set_beam(BEAM_BLOCKED if hit else BEAM_CLEAR)
+            self._light(tuple(hit))
+        except Exception as exc:  # e.g. a robot link deleted while the animation runs
+            self._end(fault=f"{type(exc).__name__}: {exc}")
             return
-        z = self.scan.position(self.k)
-        self.mover.move_to(z)
-        hit = next((names for bottom, top, names in self.spans if bottom <= z <= top), ())
-        self._set_beam(BEAM_BLOCKED if hit else BEAM_CLEAR)
-        self._light(tuple(hit))
         self.bar.setValue(self.k)
-        self.k += self.steps_per_frame
-        if self.k >= self.scan.position_count and self.k - self.steps_per_frame < \
-                self.scan.position_count - 1:
-            self.k = self.scan.position_count - 1  # always show the last position
+        self.moved.emit(self.k, self.z)
+        if self.k >= last:
+            self._end(completed=True)
+            return
+        self.k = min(self.k + self.steps_per_frame, last)  # the last position is always shown

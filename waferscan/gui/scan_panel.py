@@ -1,0 +1,121 @@
+"""The task panel of an animated scan, in the combo view: play, pause and stop, the playback
+speed, the scan position and what the beam sees, and the progress."""
+
+from __future__ import annotations
+
+import FreeCADGui as Gui
+from PySide import QtGui
+
+from ..addon import icon_path
+from .inputs import length_input, set_length
+
+
+class ScanTaskPanel:
+    """Controls for a ``ScanAnimation``; closing the panel stops the animation."""
+
+    def __init__(self, animation, on_completed=None):
+        self.animation = animation
+        self.on_completed = on_completed
+        scan = animation.scan
+        layout = animation.result.layout
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("WaferScan scan")
+        self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_RunScan.svg")))
+        about = QtGui.QLabel(
+            f"Carrier <b>{layout.carrier}</b>: {scan.position_count} positions, Z "
+            f"{scan.start_z:g} to {scan.final_z:g} mm, step {scan.z_step:g} mm, "
+            f"{scan.mode} mode")
+        about.setWordWrap(True)
+        self.z = length_input(scan.start_z, "Scan position: the emitter's Z", -1e6, 1e6)
+        self.z.setReadOnly(True)
+        self.beam = QtGui.QLabel("beam clear")
+        self.beam.setToolTip("What the beam is blocked by at this position")
+        self.progress = QtGui.QProgressBar()
+        self.progress.setRange(0, scan.position_count - 1)
+        self.play_button = QtGui.QPushButton("Play")
+        self.play_button.setToolTip("Play the scan, or go on after a pause")
+        self.pause_button = QtGui.QPushButton("Pause")
+        self.pause_button.setToolTip("Hold the robot where it is")
+        self.stop_button = QtGui.QPushButton("Stop")
+        self.stop_button.setToolTip("End the animation and put the robot back in its start pose")
+        style = self.form.style()
+        self.play_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaPlay))
+        self.pause_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaPause))
+        self.stop_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaStop))
+        self.speed = QtGui.QSpinBox()
+        self.speed.setRange(1, max(1, scan.position_count))
+        self.speed.setValue(animation.steps_per_frame)
+        self.speed.setSuffix(" steps per frame")
+        self.speed.setToolTip("Playback speed: scan positions advanced per frame")
+        self.status = QtGui.QLabel("")
+        self.status.setWordWrap(True)
+        buttons = QtGui.QHBoxLayout()
+        for button in (self.play_button, self.pause_button, self.stop_button):
+            buttons.addWidget(button)
+        form = QtGui.QFormLayout()
+        form.addRow("Position", self.z)
+        form.addRow("Beam", self.beam)
+        form.addRow("Speed", self.speed)
+        layout_box = QtGui.QVBoxLayout(self.form)
+        layout_box.addWidget(about)
+        layout_box.addLayout(form)
+        layout_box.addWidget(self.progress)
+        layout_box.addLayout(buttons)
+        layout_box.addWidget(self.status)
+        layout_box.addStretch(1)
+        self.play_button.clicked.connect(self.play)
+        self.pause_button.clicked.connect(self.pause)
+        self.stop_button.clicked.connect(animation.stop)
+        self.speed.valueChanged.connect(animation.set_speed)
+        animation.moved.connect(self._moved)
+        animation.finished.connect(self._finished)
+        self._buttons()
+
+    def play(self):
+        self.animation.play()
+        self._buttons()
+
+    def pause(self):
+        self.animation.pause()
+        self._buttons()
+
+    def _buttons(self):
+        ended = self.animation._ended
+        running = self.animation.running
+        self.play_button.setEnabled(not ended and not running)
+        self.pause_button.setEnabled(running)
+        self.stop_button.setEnabled(not ended)
+
+    def _moved(self, k, z):
+        self._buttons()
+        set_length(self.z, z)
+        self.progress.setValue(k)
+        lit = self.animation._lit
+        self.beam.setText(f"blocked by {', '.join(lit)}" if lit else "beam clear")
+        self.beam.setStyleSheet("color: #c01010; font-weight: bold;" if lit else "")
+
+    def _finished(self):
+        animation = self.animation
+        self._buttons()
+        if animation.fault:
+            self.status.setText(f"Stopped: {animation.fault}")
+        elif animation.completed:
+            self.progress.setValue(self.progress.maximum())
+            self.status.setText(f"Done. Slot code <b>{animation.result.code}</b>")
+            if self.on_completed is not None:
+                self.on_completed()
+        else:
+            self.status.setText(f"Stopped at Z {animation.z:.3f} mm; the results of the whole "
+                                "scan are in the results table")
+
+    # FreeCAD's task-panel interface
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        self.animation.stop()
+        Gui.Control.closeDialog()
+        return True
+
+    def accept(self):
+        return self.reject()
