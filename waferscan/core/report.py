@@ -15,6 +15,11 @@ PAPER_TABLE_1 = {
 }
 PAPER_CODE = "1101221001220001010000010"
 
+# Colours of the slot states (code -> RGB) wherever results are drawn: the GUI's table, strip
+# and side view.
+STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (240, 170, 60),
+                 4: (120, 170, 230), 5: (200, 120, 220), 6: (250, 220, 70)}
+
 
 def result_dict(result):
     """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine."""

@@ -11,11 +11,10 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..core.mapping import E87, STATE_NAMES
+from ..core.report import STATE_COLOURS
+from .side_view import SideView
 
 COLUMNS = ("Slot", "Slot Z [mm]", "Wafer", "IN [mm]", "OUT [mm]", "Diff [mm]", "State")
-# Colours of the slot states (code -> RGB), used by the table, the strip and the 3D highlight.
-STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (240, 170, 60),
-                 4: (120, 170, 230), 5: (200, 120, 220), 6: (250, 220, 70)}
 SHEET = "ScanResults"
 
 
@@ -116,7 +115,8 @@ class ResultsTable(QtGui.QDialog):
 
 class SlotCodeDialog(QtGui.QDialog):
     """The slot code in large type, a strip of per-slot cells coloured by state (as the paper's
-    Fig. 7), the SEMI E87 map, and a button to copy the code."""
+    Fig. 7), a side view of the carrier with the sensor runs against the slots (as its Fig. 6),
+    the SEMI E87 map, and a button to copy the code."""
 
     def __init__(self, result, parent=None):
         super().__init__(parent or Gui.getMainWindow())
@@ -130,6 +130,7 @@ class SlotCodeDialog(QtGui.QDialog):
         self.code_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         strip = QtGui.QHBoxLayout()
         strip.setSpacing(2)
+        self.cells = []
         for slot in result.slot_map.slots:
             cell = QtGui.QLabel(f"{slot.slot}\n{slot.state}", self)
             cell.setAlignment(QtCore.Qt.AlignCenter)
@@ -137,13 +138,36 @@ class SlotCodeDialog(QtGui.QDialog):
             r, g, b = STATE_COLOURS[slot.state]
             cell.setStyleSheet(f"background: rgb({r},{g},{b}); border: 1px solid #777;")
             cell.setToolTip(f"slot {slot.slot}: {STATE_NAMES[slot.state]}, E87 {E87[slot.state]}")
+            self.cells.append(cell)
             strip.addWidget(cell)
         copy = QtGui.QPushButton("Copy code", self)
-        copy.clicked.connect(lambda: QtGui.QApplication.clipboard().setText(result.code))
-        legend = "   ".join(f"{code} {name}" for code, name in STATE_NAMES.items())
+        copy.setToolTip("Copy the slot code to the clipboard")
+        copy.clicked.connect(self.copy_code)
+        self.e87_label = QtGui.QLabel(f"SEMI E87 slot map:\n{result.e87}", self)
+        self.e87_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        self.e87_label.setToolTip("E87 SlotMap values: 1 empty, 2 not empty (thin, out of "
+                                  "position, protruding), 3 correctly occupied, 4 double "
+                                  "slotted, 5 cross slotted")
+        legend = QtGui.QVBoxLayout()
+        for code, name in STATE_NAMES.items():
+            r, g, b = STATE_COLOURS[code]
+            swatch = QtGui.QLabel(f"{code}  {name}", self)
+            swatch.setStyleSheet(f"background: rgb({r},{g},{b}); padding: 2px 6px;")
+            legend.addWidget(swatch)
+        self.side_view = SideView(result, STATE_COLOURS, self)
+        side = QtGui.QVBoxLayout()
+        side.addWidget(self.e87_label)
+        side.addLayout(legend)
+        side.addStretch(1)
+        side.addWidget(copy)
+        lower = QtGui.QHBoxLayout()
+        lower.addWidget(self.side_view, 1)
+        lower.addLayout(side)
         layout = QtGui.QVBoxLayout(self)
         layout.addWidget(self.code_label)
         layout.addLayout(strip)
-        layout.addWidget(QtGui.QLabel(f"SEMI E87 slot map: {result.e87}", self))
-        layout.addWidget(QtGui.QLabel(legend, self))
-        layout.addWidget(copy)
+        layout.addLayout(lower, 1)
+
+    def copy_code(self):
+        QtGui.QApplication.clipboard().setText(self.result.code)
+        App.Console.PrintMessage(f"WaferScan: slot code {self.result.code} copied\n")
