@@ -1,0 +1,338 @@
+"""The MCS link task panel: the folder of the three files, parameters.txt seen and edited with
+validation, and watching commands.txt. The link is the headless one (``core.mcs_link.McsLink``
+with ``cad.mcs_watch.document_scanner``), so results.txt is written exactly as ``waferscan
+watch`` writes it; the panel only decides when to poll: on a file-system event and, as a
+fallback for file systems that send none (network shares), on a timer."""
+
+from __future__ import annotations
+
+import datetime as _dt
+from pathlib import Path
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+from ..addon import icon_path
+from ..cad.mcs_watch import document_scanner
+from ..cad.reader import read_layout
+from ..core.errors import InputError
+from ..core.mcs import (COMMANDS, PARAMETERS, apply_parameters, atomic_write_text,
+                        format_parameters, parse_parameters)
+from ..core.mcs_link import McsLink, ScanStopped
+from . import preferences
+
+LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
+
+
+def _guarded(doc, scan):
+    """The link's scan, with a document that can no longer be read (closed, objects gone)
+    answered as an error instead of stopping the link."""
+
+    def guarded(command, should_stop):
+        try:
+            return scan(command, should_stop)
+        except (InputError, ScanStopped):
+            raise
+        except Exception as exc:
+            raise InputError(getattr(doc, "Label", "document"), None,
+                             f"cannot scan the document: {type(exc).__name__}: {exc}") from None
+
+    return guarded
+
+
+class McsTaskPanel:
+    """Folder, parameters, start/stop watching, and the log of the commands carried out."""
+
+    def __init__(self, doc, folder=None):
+        self.doc = doc
+        self.link = None
+        self.watcher = None
+        self.timer = QtCore.QTimer()
+        self.timer.timeout.connect(self.poll)
+        self._polling = False
+        # The text the panel last put in the editor, and the file's text as last seen.
+        self._shown, self._disk = None, None
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("WaferScan MCS link")
+        self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_McsLink.svg")))
+        # The folder
+        self.folder = QtGui.QLineEdit(str(folder or preferences.mcs_folder()))
+        self.folder.setToolTip("The folder where the MCS writes parameters.txt and commands.txt "
+                               "and reads results.txt")
+        browse = QtGui.QPushButton("Browse…")
+        browse.clicked.connect(self._browse)
+        self.folder.editingFinished.connect(self.load_parameters)
+        folder_row = QtGui.QHBoxLayout()
+        folder_row.addWidget(self.folder, 1)
+        folder_row.addWidget(browse)
+        # parameters.txt
+        self.editor = QtGui.QPlainTextEdit()
+        self.editor.setFont(QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.FixedFont))
+        self.editor.setToolTip("parameters.txt: key = value, one per line; # starts a comment. "
+                               "A key left out keeps the layout's value.")
+        self.editor.setFixedHeight(110)
+        self.editor.textChanged.connect(self.validate)
+        self.check = QtGui.QLabel("")
+        self.check.setWordWrap(True)
+        self.save_button = QtGui.QPushButton("Save")
+        self.save_button.setToolTip("Write parameters.txt (atomically) into the folder")
+        self.save_button.clicked.connect(self.save_parameters)
+        reload_button = QtGui.QPushButton("Reload")
+        reload_button.setToolTip("Read parameters.txt again from the folder")
+        reload_button.clicked.connect(self.load_parameters)
+        from_layout = QtGui.QPushButton("From layout")
+        from_layout.setToolTip("Fill in every parameter with the layout's own value")
+        from_layout.clicked.connect(self.fill_from_layout)
+        parameter_buttons = QtGui.QHBoxLayout()
+        for button in (from_layout, reload_button, self.save_button):
+            parameter_buttons.addWidget(button)
+        parameters = QtGui.QGroupBox("parameters.txt")
+        parameters_box = QtGui.QVBoxLayout(parameters)
+        parameters_box.addWidget(self.editor)
+        parameters_box.addWidget(self.check)
+        parameters_box.addLayout(parameter_buttons)
+        # Watching
+        self.start_button = QtGui.QPushButton("Start watching")
+        self.start_button.setToolTip("Carry out each new command of commands.txt and answer it "
+                                     "in results.txt")
+        self.stop_button = QtGui.QPushButton("Stop watching")
+        self.start_button.clicked.connect(lambda: self.start())
+        self.stop_button.clicked.connect(self.stop)
+        self.state = QtGui.QLabel("not watching")
+        self.state.setWordWrap(True)
+        self.log = QtGui.QTableWidget(0, len(LOG_COLUMNS))
+        self.log.setHorizontalHeaderLabels(list(LOG_COLUMNS))
+        self.log.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        self.log.verticalHeader().setVisible(False)
+        self.log.verticalHeader().setDefaultSectionSize(20)
+        self.log.horizontalHeader().setStretchLastSection(True)
+        self.log.setMinimumHeight(150)
+        watch_buttons = QtGui.QHBoxLayout()
+        watch_buttons.addWidget(self.start_button)
+        watch_buttons.addWidget(self.stop_button)
+        watching = QtGui.QGroupBox("commands.txt")
+        watching_box = QtGui.QVBoxLayout(watching)
+        watching_box.addLayout(watch_buttons)
+        watching_box.addWidget(self.state)
+        watching_box.addWidget(self.log)
+        layout = QtGui.QVBoxLayout(self.form)
+        layout.addWidget(QtGui.QLabel(f"Layout: <b>{doc.Label}</b>"))
+        layout.addWidget(QtGui.QLabel("Folder"))
+        layout.addLayout(folder_row)
+        layout.addWidget(parameters)
+        layout.addWidget(watching, 1)
+        self.load_parameters()
+        self._buttons()
+
+    # --- the folder and parameters.txt -----------------------------------------------------
+
+    def folder_path(self):
+        return Path(self.folder.text().strip()).expanduser()
+
+    def _browse(self):
+        chosen = QtGui.QFileDialog.getExistingDirectory(self.form, "MCS folder",
+                                                        self.folder.text())
+        if chosen:
+            self.set_folder(chosen)
+
+    def set_folder(self, folder):
+        if self.link is not None:
+            self.stop()
+        self.folder.setText(str(folder))
+        self.load_parameters()
+
+    def load_parameters(self):
+        """Show the folder's parameters.txt; with none, the layout's values (not yet saved)."""
+        path = self.folder_path() / PARAMETERS
+        self._disk = None
+        if self.folder.text().strip() and path.is_file():
+            try:
+                self._disk = path.read_bytes().decode("utf-8-sig")
+                self._show_text(self._disk)
+                return
+            except (OSError, UnicodeDecodeError) as exc:
+                self._show_check(False, f"{path}: cannot read: {exc}")
+                return
+        self.fill_from_layout()
+
+    def fill_from_layout(self):
+        try:
+            self._show_text(format_parameters(read_layout(self.doc)))
+        except InputError as exc:
+            self._show_check(False, str(exc))
+
+    def _show_text(self, text):
+        self._shown = text
+        self.editor.setPlainText(text)
+
+    def validate(self):
+        """Check the text as the link will read it: every line, then against the layout. Marks
+        the line of an error; returns the error, or None when the text is valid."""
+        source = str(self.folder_path() / PARAMETERS)
+        try:
+            apply_parameters(read_layout(self.doc),
+                             parse_parameters(self.editor.toPlainText(), source))
+        except InputError as exc:
+            self._show_check(False, str(exc), exc.line)
+            return exc
+        self._show_check(True, "valid: the next SCF or SCS will scan with these values")
+        return None
+
+    def _show_check(self, ok, message, line=None):
+        self.check.setText(message)
+        self.check.setStyleSheet("color: #1d7a2e;" if ok else "color: #c01010;")
+        self.save_button.setEnabled(ok)
+        marks = []
+        if line is not None:
+            mark = QtGui.QTextEdit.ExtraSelection()
+            mark.format.setBackground(QtGui.QColor(255, 215, 215))
+            mark.format.setProperty(QtGui.QTextFormat.FullWidthSelection, True)
+            mark.cursor = QtGui.QTextCursor(
+                self.editor.document().findBlockByNumber(line - 1))
+            marks.append(mark)
+        self.editor.setExtraSelections(marks)
+
+    def save_parameters(self):
+        if self.validate() is not None:
+            return False
+        folder = self.folder_path()
+        if not folder.is_dir():
+            self._show_check(False, f"{folder}: no such folder")
+            return False
+        self._shown = self._disk = self.editor.toPlainText()
+        atomic_write_text(folder / PARAMETERS, self._disk)
+        App.Console.PrintMessage(f"WaferScan: wrote {folder / PARAMETERS}\n")
+        self._show_check(True, f"saved to {folder / PARAMETERS}")
+        return True
+
+    # --- watching commands.txt ------------------------------------------------------------
+
+    def start(self, events=True, poll_ms=None):
+        """Watch commands.txt: on file-system events (``events``) and every ``poll_ms`` ms
+        (0: no polling). Returns False with a message when the folder is not there."""
+        folder = self.folder_path()
+        if not self.folder.text().strip() or not folder.is_dir():
+            self._show_state(f"{folder}: no such folder", error=True)
+            return False
+        self.stop()
+        self.link = McsLink(folder, _guarded(self.doc, document_scanner(self.doc, folder)),
+                            log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
+        poll_ms = preferences.POLL_MS if poll_ms is None else poll_ms
+        how = []
+        if events:
+            self.watcher = QtCore.QFileSystemWatcher()
+            self.watcher.directoryChanged.connect(self.poll)
+            self.watcher.fileChanged.connect(self.poll)
+            self.watcher.addPath(str(folder))
+            self._watch_commands_file()
+            how.append("file-system events")
+        if poll_ms:
+            self.timer.start(int(poll_ms))
+            how.append(f"polling every {poll_ms / 1000:g} s")
+        self._show_state(f"watching {folder / COMMANDS} ({' and '.join(how) or 'by hand'})")
+        App.Console.PrintMessage(f"WaferScan: watching {folder / COMMANDS}\n")
+        self._buttons()
+        self.poll()
+        return True
+
+    def stop(self):
+        self.timer.stop()
+        if self.watcher is not None:
+            self.watcher.deleteLater()
+            self.watcher = None
+        if self.link is not None:
+            App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
+            self._show_state("not watching")
+        self.link = None
+        self._buttons()
+
+    @property
+    def watching(self):
+        return self.link is not None
+
+    def _watch_commands_file(self):
+        # A file replaced by rename or deleted drops out of the watcher: add it again.
+        path = str(self.link.folder / COMMANDS)
+        if self.watcher is not None and path not in self.watcher.files() and \
+                Path(path).exists():
+            self.watcher.addPath(path)
+
+    def poll(self):
+        """Carry out what commands.txt holds that results.txt has not answered."""
+        if self.link is None or self._polling:
+            return []
+        self._polling = True
+        try:
+            answers = self.link.poll()
+        except Exception as exc:  # the folder went away, a disk error: say so, keep watching
+            self._show_state(f"watching, but the last poll failed: {exc}", error=True)
+            App.Console.PrintError(f"WaferScan: MCS link: {exc}\n")
+            return []
+        finally:
+            self._polling = False
+        if self.link is not None:
+            self._watch_commands_file()
+            self._follow_parameters()
+        for answer in answers:
+            self._add_log_row(answer)
+        return answers
+
+    def _follow_parameters(self):
+        """parameters.txt changed on disk (the MCS wrote it): show it, unless the user is
+        editing it, then say so."""
+        try:
+            text = (self.link.folder / PARAMETERS).read_bytes().decode("utf-8-sig")
+        except (OSError, UnicodeDecodeError):
+            return
+        if text == self._disk:
+            return
+        self._disk = text
+        if self.editor.toPlainText() == self._shown:
+            self._show_text(text)
+        else:
+            self._show_check(False, "parameters.txt changed on disk: Reload shows it (your "
+                                    "edits are not saved)")
+
+    def _add_log_row(self, answer):
+        row = self.log.rowCount()
+        self.log.insertRow(row)
+        cells = (_dt.datetime.now().strftime("%H:%M:%S"), str(answer.seq), answer.command,
+                 answer.status, answer.code or answer.message)
+        for column, text in enumerate(cells):
+            item = QtGui.QTableWidgetItem(text)
+            if column == 3:
+                item.setForeground(QtGui.QColor(29, 122, 46) if answer.status == "ok"
+                                   else QtGui.QColor(192, 16, 16))
+            self.log.setItem(row, column, item)
+        self.log.resizeColumnsToContents()
+        self.log.scrollToBottom()
+        line = (f"WaferScan: MCS seq {answer.seq} {answer.command}: {answer.status}"
+                f"{' ' + answer.code if answer.code else ''}"
+                f"{' (' + answer.message + ')' if answer.message else ''}\n")
+        (App.Console.PrintMessage if answer.status == "ok" else App.Console.PrintWarning)(line)
+
+    def log_rows(self):
+        """The log's text, row by row (what a user sees)."""
+        return [[self.log.item(r, c).text() for c in range(self.log.columnCount())]
+                for r in range(self.log.rowCount())]
+
+    def _show_state(self, text, error=False):
+        self.state.setText(text)
+        self.state.setStyleSheet("color: #c01010;" if error else "")
+
+    def _buttons(self):
+        self.start_button.setEnabled(self.link is None)
+        self.stop_button.setEnabled(self.link is not None)
+
+    # FreeCAD's task-panel interface
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        self.stop()
+        Gui.Control.closeDialog()
+        return True
+
+    def accept(self):
+        return self.reject()
