@@ -15,9 +15,9 @@ class WaferScanWorkbench(FreeCADGui.Workbench):
         """Called once, when the workbench is first activated."""
         import waferscan.gui.commands
 
-        names = waferscan.gui.commands.register()
-        self.appendToolbar("WaferScan", names)
-        self.appendMenu("&WaferScan", names)
+        toolbar, menu = waferscan.gui.commands.register()
+        self.appendToolbar("WaferScan", toolbar)
+        self.appendMenu("&WaferScan", menu)
 
     def GetClassName(self):
         return "Gui::PythonWorkbench"
@@ -25,3 +25,8 @@ class WaferScanWorkbench(FreeCADGui.Workbench):
 
 WaferScanWorkbench.Icon = waferscan.addon.icon_path()
 FreeCADGui.addWorkbench(WaferScanWorkbench())
+# The preferences page is there before the workbench is first activated, as FreeCAD's own are;
+# its icon is found by name (preferences-waferscan.svg) on the icon path.
+FreeCADGui.addIconPath(waferscan.addon.icon_path(""))
+import waferscan.gui.preferences  # noqa: E402
+waferscan.gui.preferences.register()

@@ -1,0 +1,131 @@
+"""The workbench's preferences (Edit → Preferences → WaferScan): the mapping tolerances given to
+layouts that do not set their own, the MCS folder the link panel opens with, and the animation's
+playback speed. They live in FreeCAD's parameters under ``Mod/WaferScan``."""
+
+from __future__ import annotations
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtGui
+
+from ..core.model import MappingTolerances
+from .inputs import length_input, length_value, set_length
+
+PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
+_DEFAULTS = MappingTolerances()
+STEPS_PER_FRAME = 10  # playback speed when nothing is set
+POLL_MS = 500  # the MCS panel's polling fallback
+
+
+def _group():
+    return App.ParamGet(PARAMETERS)
+
+
+def mapping_tolerances():
+    """The default MappingTolerances: the preferences', FreeCAD's parameters being the store.
+    A negative thickness tolerance means "half the nominal thickness" (the core's None)."""
+    group = _group()
+    thickness = group.GetFloat("ThicknessTolerance", -1.0)
+    return MappingTolerances(
+        thickness_tolerance=None if thickness < 0 else thickness,
+        position_tolerance=group.GetFloat("PositionTolerance", _DEFAULTS.position_tolerance),
+        protrusion_limit=group.GetFloat("ProtrusionLimit", _DEFAULTS.protrusion_limit))
+
+
+def mcs_folder():
+    return _group().GetString("McsFolder", "")
+
+
+def steps_per_frame():
+    return max(1, _group().GetInt("StepsPerFrame", STEPS_PER_FRAME))
+
+
+def set_values(thickness_tolerance=None, position_tolerance=None, protrusion_limit=None,
+               folder=None, speed=None):
+    """Store the given preferences (None leaves one as it is)."""
+    group = _group()
+    if thickness_tolerance is not None:
+        group.SetFloat("ThicknessTolerance", float(thickness_tolerance))
+    if position_tolerance is not None:
+        group.SetFloat("PositionTolerance", float(position_tolerance))
+    if protrusion_limit is not None:
+        group.SetFloat("ProtrusionLimit", float(protrusion_limit))
+    if folder is not None:
+        group.SetString("McsFolder", str(folder))
+    if speed is not None:
+        group.SetInt("StepsPerFrame", max(1, int(speed)))
+
+
+class PreferencesPage:
+    """The page FreeCAD's preferences dialog shows; it calls loadSettings and saveSettings."""
+
+    def __init__(self, parent=None):
+        self.form = QtGui.QWidget(parent)
+        self.form.setWindowTitle("WaferScan")
+        tolerances = QtGui.QGroupBox("Slot mapping (layouts that do not set their own)")
+        form = QtGui.QFormLayout(tolerances)
+        self.half_thickness = QtGui.QCheckBox("half the nominal wafer thickness")
+        self.half_thickness.setToolTip("A run thicker or thinner than nominal by more than this "
+                                       "is a double (code 3) or a thin wafer (code 5)")
+        self.thickness = length_input(0.35, "Thickness tolerance of a sensor run")
+        self.half_thickness.toggled.connect(lambda on: self.thickness.setEnabled(not on))
+        row = QtGui.QHBoxLayout()
+        row.addWidget(self.thickness)
+        row.addWidget(self.half_thickness)
+        form.addRow("Thickness tolerance", row)
+        self.position = length_input(_DEFAULTS.position_tolerance,
+                                     "How far a run's middle may lie from the slot's wafer "
+                                     "middle and still count as that slot")
+        form.addRow("Position tolerance", self.position)
+        self.protrusion = length_input(_DEFAULTS.protrusion_limit,
+                                       "How far a wafer may stick out of the carrier's front "
+                                       "before it is reported protruding (code 6)")
+        form.addRow("Protrusion limit", self.protrusion)
+        link = QtGui.QGroupBox("MCS link")
+        link_form = QtGui.QFormLayout(link)
+        self.folder = QtGui.QLineEdit()
+        self.folder.setToolTip("The folder of parameters.txt, commands.txt and results.txt "
+                               "that the MCS link panel opens with")
+        browse = QtGui.QPushButton("Browse…")
+        browse.clicked.connect(self._browse)
+        folder_row = QtGui.QHBoxLayout()
+        folder_row.addWidget(self.folder)
+        folder_row.addWidget(browse)
+        link_form.addRow("Folder", folder_row)
+        animation = QtGui.QGroupBox("Animation")
+        animation_form = QtGui.QFormLayout(animation)
+        self.speed = QtGui.QSpinBox()
+        self.speed.setRange(1, 100000)
+        self.speed.setSuffix(" steps per frame")
+        self.speed.setToolTip("Scan positions advanced per animation frame")
+        animation_form.addRow("Playback speed", self.speed)
+        layout = QtGui.QVBoxLayout(self.form)
+        for box in (tolerances, link, animation):
+            layout.addWidget(box)
+        layout.addStretch(1)
+
+    def _browse(self):
+        folder = QtGui.QFileDialog.getExistingDirectory(self.form, "MCS folder", self.folder.text())
+        if folder:
+            self.folder.setText(folder)
+
+    def loadSettings(self):
+        mapping = mapping_tolerances()
+        self.half_thickness.setChecked(mapping.thickness_tolerance is None)
+        set_length(self.thickness, 0.35 if mapping.thickness_tolerance is None
+                   else mapping.thickness_tolerance)
+        set_length(self.position, mapping.position_tolerance)
+        set_length(self.protrusion, mapping.protrusion_limit)
+        self.folder.setText(mcs_folder())
+        self.speed.setValue(steps_per_frame())
+
+    def saveSettings(self):
+        set_values(thickness_tolerance=-1.0 if self.half_thickness.isChecked()
+                   else length_value(self.thickness),
+                   position_tolerance=length_value(self.position),
+                   protrusion_limit=length_value(self.protrusion),
+                   folder=self.folder.text().strip(), speed=self.speed.value())
+
+
+def register():
+    Gui.addPreferencePage(PreferencesPage, "WaferScan")
