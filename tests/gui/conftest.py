@@ -6,10 +6,12 @@ import os
 import shutil
 import signal
 import subprocess
+from pathlib import Path
 
 import pytest
 
 FREECAD = shutil.which("freecad")
+PROBES = Path(__file__).resolve().parent  # probes import probe_steps from here
 TIMEOUT_S = 180
 
 
@@ -22,8 +24,12 @@ def run_gui_probe(tmp_path_factory):
             pytest.skip("FreeCAD (freecad) is not installed")
         result_file = tmp_path_factory.mktemp("gui") / "result.json"
         env = dict(os.environ, QTWEBENGINE_DISABLE_SANDBOX="1",
-                   WAFERSCAN_GUI_RESULT=str(result_file), **extra_env)
-        command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", FREECAD, str(probe)]
+                   WAFERSCAN_GUI_RESULT=str(result_file), WAFERSCAN_GUI_PROBES=str(PROBES),
+                   **extra_env)
+        # A user config of its own: preferences a probe sets stay out of the user's FreeCAD.
+        user_cfg = result_file.with_name("user.cfg")
+        command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
+                   str(user_cfg), str(probe)]
         # Own process group: on a timeout, xvfb-run, Xvfb and FreeCAD all go.
         proc = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL,
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,

@@ -1,55 +1,131 @@
-# Run by FreeCAD's GUI (tests/gui/test_gui_scan.py): activate WaferScan, build the paper's
-# layout with its command, run the animated scan to the end, read the results table and the
-# slot-code dialog as a user sees them, save screenshots, report as JSON, quit.
-import json
+# Run by FreeCAD's GUI (tests/gui/test_gui_scan.py): the paper's experiment as an engineer does
+# it. Activate WaferScan, build the paper's layout with its command, run the scan with its
+# command, pause and go on in the task panel, change the speed, let it run to the end; read the
+# results table, the slot-code dialog and the side view as a user sees them; cross-check; then a
+# second animation whose robot link is deleted mid-scan. Screenshots go to the artifacts folder.
 import os
-import traceback
+import sys
 
-import FreeCAD as App
-import FreeCADGui as Gui
-from PySide import QtCore, QtGui
+sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
+from probe_steps import artifact, finish, later, result, start, wait_for, window_shot  # noqa: E402,E501
 
-OUT = os.environ["WAFERSCAN_GUI_ARTIFACTS"]
-result = {"ok": False}
+import FreeCAD as App  # noqa: E402
+import FreeCADGui as Gui  # noqa: E402
+from PySide import QtGui  # noqa: E402
+
+state = {}
 
 
-def write_and_quit():
-    with open(os.environ["WAFERSCAN_GUI_RESULT"], "w", encoding="utf-8") as handle:
-        json.dump(result, handle)
-    QtGui.QApplication.quit()
+def begin():
+    Gui.activateWorkbench("WaferScanWorkbench")
+    Gui.runCommand("WaferScan_NewPaperLayout")
+    Gui.updateGui()
+    result["document"] = App.ActiveDocument.Name
+    Gui.runCommand("WaferScan_RunScan")
+    from waferscan.gui import commands
+    panel = commands._session["panel"]
+    state["panel"], state["animation"] = panel, panel.animation
+    result["task_panel_shown"] = Gui.Control.activeDialog()
+    panel.speed.setValue(5)  # slow for now, so that a pause lands mid-scan
+    result["frames"] = 0
+    panel.animation.moved.connect(lambda k, z: result.__setitem__("frames", result["frames"] + 1))
+    wait_for("the beam blocked by a wafer", lambda: panel.animation._lit, paused_on_a_wafer)
+
+
+def paused_on_a_wafer():
+    panel = state["panel"]
+    panel.pause_button.click()
+    Gui.updateGui()
+    result["paused_running"] = panel.animation.running
+    result["paused_beam_label"] = panel.beam.text()
+    result["paused_z"] = panel.animation.z
+    result["paused_position_field"] = panel.z.property("value").getValueAs("mm").Value
+    result["paused_buttons"] = [panel.play_button.isEnabled(), panel.pause_button.isEnabled(),
+                                panel.stop_button.isEnabled()]
+    lit = panel.animation._lit
+    wafer = App.ActiveDocument.getObjectsByLabel(lit[0])[0]
+    result["highlight"] = list(wafer.ViewObject.ShapeColor[:3])
+    result["beam_colour"] = list(panel.animation.beam.ViewObject.LineColor[:3])
+    view = Gui.ActiveDocument.ActiveView
+    view.saveImage(artifact("gui-during-scan.png"), 1200, 800, "White")
+    window_shot("gui-scan-panel.png")
+    later(resume, 200)
+
+
+def resume():
+    panel = state["panel"]
+    result["frames_while_paused"] = result["frames"]
+    panel.speed.setValue(60)
+    panel.play_button.click()
+    wait_for("the animation's end", lambda: panel.animation._ended, after_animation)
 
 
 def after_animation():
-    try:
-        from waferscan.gui import commands
-        table, dialog = commands._session["dialogs"]
-        result["rows"] = table.rows()
-        result["dialog_code"] = dialog.code_label.text()
-        result["sheet_code"] = App.ActiveDocument.getObject("ScanResults").get("code")
-        table.grab().save(os.path.join(OUT, "gui-results-table.png"))
-        dialog.grab().save(os.path.join(OUT, "gui-slot-code.png"))
-        view = Gui.ActiveDocument.ActiveView
-        view.saveImage(os.path.join(OUT, "gui-after-scan.png"), 1200, 800, "White")
-        result["ok"] = True
-    except Exception:
-        result["error"] = traceback.format_exc()
-    write_and_quit()
+    from waferscan.gui import commands
+    panel = state["panel"]
+    result["completed"] = panel.animation.completed
+    result["panel_status"] = panel.status.text()
+    wait_for("the results dialogs", lambda: len(commands._session["dialogs"]) == 2, dialogs)
 
 
-def start():
-    try:
-        Gui.activateWorkbench("WaferScanWorkbench")
-        Gui.runCommand("WaferScan_NewPaperLayout")
-        from waferscan.gui import commands
-        animation = commands.run_scan(App.ActiveDocument, steps_per_frame=50)
-        result["frames"] = 0
-        animation.timer.timeout.connect(lambda: result.__setitem__("frames", result["frames"] + 1))
-        animation.finished.connect(lambda: QtCore.QTimer.singleShot(300, after_animation))
-        QtCore.QTimer.singleShot(150, lambda: Gui.ActiveDocument.ActiveView.saveImage(
-            os.path.join(OUT, "gui-during-scan.png"), 1200, 800, "White"))
-    except Exception:
-        result["error"] = traceback.format_exc()
-        write_and_quit()
+def dialogs():
+    from waferscan.gui import commands
+    table, dialog = commands._session["dialogs"]
+    Gui.updateGui()
+    result["rows"] = table.rows()
+    result["state_colours"] = [table.table.item(r, 6).background().color().name()
+                               for r in range(table.table.rowCount())]
+    result["dialog_code"] = dialog.code_label.text()
+    result["strip"] = [cell.text().split("\n") for cell in dialog.cells]
+    result["e87_label"] = dialog.e87_label.text()
+    result["sheet_code"] = App.ActiveDocument.getObject("ScanResults").get("code")
+    # Selecting a row selects its wafer in the 3D view.
+    table.table.selectRow(0)
+    result["selected"] = [o.Label for o in Gui.Selection.getSelection()]
+    dialog.copy_code()
+    result["clipboard"] = QtGui.QApplication.clipboard().text()
+    # The side view, drawn: sample the colours of its pixels.
+    image = dialog.side_view.grab().toImage()
+    colours = {image.pixel(x, y) & 0xFFFFFF for x in range(0, image.width(), 2)
+               for y in range(0, image.height(), 2)}
+    result["side_view_colours"] = sorted(f"#{c:06x}" for c in colours)
+    table.grab().save(artifact("gui-results-table.png"))
+    dialog.grab().save(artifact("gui-slot-code.png"))
+    Gui.ActiveDocument.ActiveView.saveImage(artifact("gui-after-scan.png"), 1200, 800, "White")
+    window_shot("gui-main-window.png")
+    check = commands.cross_check(App.ActiveDocument)
+    result["crosscheck_ok"] = check.ok
+    result["crosscheck_deviation"] = check.largest_deviation
+    result["crosscheck_box"] = commands._session["dialogs"][0].text()
+    later(fault_during_animation, 100)
 
 
-QtCore.QTimer.singleShot(800, start)
+def fault_during_animation():
+    from waferscan.gui import commands
+    doc = App.ActiveDocument
+    animation = commands.run_scan(doc, steps_per_frame=5)
+    state["fault_animation"] = animation
+    wait_for("a few frames", lambda: animation.k > 100, delete_a_link)
+
+
+def delete_a_link():
+    doc = App.ActiveDocument
+    fork = doc.getObjectsByLabel("robot fork")[0]
+    result["deleted"] = fork.Name
+    doc.removeObject(fork.Name)
+    animation = state["fault_animation"]
+    wait_for("the animation to end on the fault", lambda: animation._ended, after_fault)
+
+
+def after_fault():
+    from waferscan.gui import commands
+    animation = state["fault_animation"]
+    panel = commands._session["panel"]
+    result["fault"] = animation.fault
+    result["fault_completed"] = animation.completed
+    result["fault_status"] = panel.status.text()
+    Gui.Control.closeDialog()
+    finish()
+
+
+start(begin)

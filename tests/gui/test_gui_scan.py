@@ -1,31 +1,92 @@
-"""The paper's experiment in the FreeCAD GUI: build it with the workbench's command, run the
-animated scan to the end, and compare the results table and the slot-code dialog with the
-headless scan."""
+"""The paper's experiment in the FreeCAD GUI: build it and scan it with the workbench's commands,
+drive the animation from its task panel, and compare the results table, the slot-code dialog
+and the cross-check with the headless scan."""
 
 from pathlib import Path
 
+import pytest
+
+from waferscan.cad.brep import crosscheck
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.layout_files import opened_layout
 from waferscan.cli import paper_scenario
+from waferscan.core.mapping import E87
 
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("scan_probe.py")
 ARTIFACTS = REPO / "test-artifacts"
+SHOTS = ("gui-results-table.png", "gui-slot-code.png", "gui-after-scan.png",
+         "gui-during-scan.png", "gui-scan-panel.png", "gui-main-window.png")
 
 
-def test_animated_scan_shows_the_headless_results(run_gui_probe):
-    ARTIFACTS.mkdir(exist_ok=True)
-    gui = run_gui_probe(PROBE, WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS))
+@pytest.fixture(scope="module")
+def gui(run_gui_probe):
+    for name in SHOTS:
+        (ARTIFACTS / name).unlink(missing_ok=True)
+    return run_gui_probe(PROBE, WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS))
+
+
+@pytest.fixture(scope="module")
+def headless():
     with opened_layout(paper_scenario()) as doc:
-        headless = scan_document(doc, "analytic")
-    assert gui["dialog_code"] == gui["sheet_code"] == headless.code
+        result = scan_document(doc, "analytic")
+        return result, crosscheck(doc, result)
+
+
+def test_the_table_and_the_dialog_show_the_headless_results(gui, headless):
+    result, _ = headless
+    assert gui["dialog_code"] == gui["sheet_code"] == gui["clipboard"] == result.code
+    assert result.code == "1101221001220001010000010"
     assert len(gui["rows"]) == 25
     expected = [[str(slot), f"{seat:.2f}", ", ".join(wafers) or "-",
                  "" if z_in is None else f"{z_in:.3f}", "" if z_out is None else f"{z_out:.3f}",
                  "" if diff is None else f"{diff:.3f}", state]
-                for slot, seat, wafers, z_in, z_out, diff, state in headless.table_rows()]
+                for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows()]
     assert gui["rows"] == expected
-    assert gui["frames"] >= 5401 // 50  # the animation stepped through the whole scan
-    for name in ("gui-results-table.png", "gui-slot-code.png", "gui-after-scan.png",
-                 "gui-during-scan.png"):
-        assert (ARTIFACTS / name).stat().st_size > 1000
+    assert gui["strip"] == [[str(s.slot), str(s.state)] for s in result.slot_map.slots]
+    assert result.e87 in gui["e87_label"]
+    assert "".join(str(E87[s.state]) for s in result.slot_map.slots) == result.e87
+
+
+def test_states_are_coloured_and_a_row_selects_its_wafer(gui):
+    from waferscan.core.report import STATE_COLOURS
+
+    colour = {code: "#%02x%02x%02x" % rgb for code, rgb in STATE_COLOURS.items()}
+    codes = [int(c) for c in "1101221001220001010000010"]
+    assert gui["state_colours"] == [colour[c] for c in codes]
+    assert gui["selected"] == ["LP1_W01"]
+    # The side view draws the runs in the colours of their slots' states.
+    for code in (1, 2):
+        assert colour[code] in gui["side_view_colours"]
+
+
+def test_the_task_panel_pauses_and_shows_what_the_beam_sees(gui):
+    assert gui["task_panel_shown"]
+    assert gui["paused_running"] is False
+    assert gui["paused_buttons"] == [True, False, True]
+    assert gui["paused_beam_label"].startswith("blocked by LP1_W")
+    assert gui["paused_position_field"] == pytest.approx(gui["paused_z"], abs=1e-4)
+    assert gui["highlight"] == pytest.approx([0.95, 0.55, 0.1], abs=0.01)
+    assert gui["beam_colour"] == pytest.approx([0.9, 0.1, 0.1], abs=0.01)
+    assert gui["completed"] is True
+    assert "1101221001220001010000010" in gui["panel_status"]
+    # 5 steps a frame up to the pause, then 60: the whole scan of 5401 positions in between.
+    assert 5401 // 60 < gui["frames"] < 5401 // 5
+
+
+def test_the_cross_check_command_confirms_the_scan(gui, headless):
+    _, check = headless
+    assert gui["crosscheck_ok"] is True
+    assert gui["crosscheck_deviation"] == pytest.approx(check.largest_deviation, abs=1e-9)
+    assert gui["crosscheck_deviation"] <= 1e-6
+    assert gui["crosscheck_box"].startswith("Confirmed")
+
+
+def test_a_link_deleted_mid_animation_ends_it_cleanly(gui):
+    assert gui["fault_completed"] is False
+    assert gui["fault"] and "Stopped" in gui["fault_status"]
+
+
+def test_screenshots_were_saved():
+    for name in SHOTS:
+        assert (ARTIFACTS / name).stat().st_size > 1000, name

@@ -31,3 +31,33 @@ def test_pinocchio_imports_inside_the_gui(gui_result):
 def test_screenshot_saved(gui_result):
     assert gui_result["screenshot_saved"]
     assert SCREENSHOT.stat().st_size > 0
+
+
+COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Run scan", "MCS link…",
+            "Results table", "Slot code", "Cross-check with CAD", "Preferences…"]
+
+
+def test_the_toolbar_has_every_command_with_its_own_icon_and_a_tooltip(gui_result):
+    toolbar = gui_result["toolbar"]
+    assert [text for text, _, _, _ in toolbar] == COMMANDS
+    for text, tip, has_icon, drawn in toolbar:
+        assert tip and has_icon, text
+        assert drawn > 0.15, f"{text}: its icon is nearly empty at 24 px"
+    pixmaps = gui_result["pixmaps"]
+    # One SVG per command (the three tag commands share the tag icon), all in resources/icons.
+    assert len(set(pixmaps.values())) == len(COMMANDS)
+    for name, path in pixmaps.items():
+        assert path.endswith(f"{name if 'Tag' not in name else 'WaferScan_TagSelection'}.svg")
+        assert Path(path).is_file(), path
+
+
+def test_the_menu_lists_the_tag_commands_one_by_one(gui_result):
+    menu = gui_result["menu"]
+    assert menu[:2] == COMMANDS[:2]
+    assert menu[2:5] == ["Tag as wafer", "Tag as carrier", "Tag as scanner"]
+    assert menu[5:] == COMMANDS[3:]
+
+
+def test_the_preferences_command_opens_the_waferscan_page(gui_result):
+    assert "WaferScan" in gui_result["preferences"]["groups"]
+    assert gui_result["preferences"]["shot"]

@@ -17,6 +17,37 @@ RESULT = os.environ["WAFERSCAN_GUI_RESULT"]
 SCREENSHOT = os.environ["WAFERSCAN_GUI_SCREENSHOT"]
 
 
+def _drawn(icon):
+    """The fraction of an icon's 24 px rendering that is not transparent."""
+    image = icon.pixmap(24, 24).toImage()
+    pixels = [image.pixelColor(x, y).alpha() for x in range(image.width())
+              for y in range(image.height())]
+    return sum(1 for a in pixels if a > 0) / max(1, len(pixels))
+
+
+preferences = {}
+
+
+def _look_at_preferences():
+    dialog = QtGui.QApplication.activeModalWidget()
+    if dialog is None:
+        return
+    trees = dialog.findChildren(QtGui.QListWidget) + dialog.findChildren(QtGui.QTreeWidget)
+    names = []
+    for tree in trees:
+        if isinstance(tree, QtGui.QListWidget):
+            names += [tree.item(i).text() for i in range(tree.count())]
+    preferences["groups"] = names
+    for tree in trees:
+        if isinstance(tree, QtGui.QListWidget):
+            for i in range(tree.count()):
+                if tree.item(i).text() == "WaferScan":
+                    tree.setCurrentRow(i)
+    QtGui.QApplication.processEvents()
+    preferences["shot"] = dialog.grab().save(SCREENSHOT.replace(".png", "-preferences.png"))
+    dialog.reject()
+
+
 def probe():
     result = {"ok": False}
     try:
@@ -32,9 +63,26 @@ def probe():
         result["pinocchio_version"] = pinocchio.__version__
         result["numpy_file"] = numpy.__file__
 
+        # The toolbar and the menu as a user sees them: every action's text, tooltip and icon.
         window = Gui.getMainWindow()
+        toolbar = [t for t in window.findChildren(QtGui.QToolBar) if t.windowTitle() == "WaferScan"]
+        result["toolbar"] = [(a.text(), a.toolTip(), not a.icon().isNull(),
+                              _drawn(a.icon()))
+                             for a in toolbar[0].actions()] if toolbar else None
+        menus = [m for m in window.menuBar().findChildren(QtGui.QMenu)
+                 if m.title().replace("&", "") == "WaferScan"]
+        result["menu"] = [a.text() for a in menus[0].actions() if not a.isSeparator()] \
+            if menus else None
+        from waferscan.gui import commands
+        result["pixmaps"] = {name: command.GetResources()["Pixmap"]
+                             for name, command in {**commands.COMMANDS,
+                                                   **commands.TAG_COMMANDS}.items()}
+        # The preferences page, opened with its command (a modal dialog: looked at, then closed).
+        QtCore.QTimer.singleShot(700, _look_at_preferences)
+        Gui.runCommand("WaferScan_Preferences")
         os.makedirs(os.path.dirname(SCREENSHOT), exist_ok=True)
         result["screenshot_saved"] = window.grab().save(SCREENSHOT)
+        result["preferences"] = preferences
         result["ok"] = True
     except Exception:
         result["error"] = traceback.format_exc()

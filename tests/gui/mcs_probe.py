@@ -1,0 +1,99 @@
+# Run by FreeCAD's GUI (tests/gui/test_gui_mcs.py): the MCS link panel driven as an MCS drives it.
+# Open the paper's layout and the panel on the folder WAFERSCAN_GUI_MCS; type a bad parameter and
+# a good one; save; watch on file-system events only and write commands.txt; then on polling
+# only and append to it; then a STOP; report the log and quit. The test compares results.txt
+# and the history with the headless watcher's.
+import os
+import sys
+from pathlib import Path
+
+sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
+from probe_steps import artifact, finish, later, result, start, wait_for, window_shot  # noqa: E402,E501
+
+import FreeCAD as App  # noqa: E402
+import FreeCADGui as Gui  # noqa: E402
+
+FOLDER = Path(os.environ["WAFERSCAN_GUI_MCS"])
+state = {}
+
+
+def begin():
+    Gui.activateWorkbench("WaferScanWorkbench")
+    Gui.runCommand("WaferScan_NewPaperLayout")
+    Gui.runCommand("WaferScan_McsLink")
+    from waferscan.gui import commands
+    panel = commands._session["panel"]
+    state["panel"] = panel
+    result["panel_shown"] = Gui.Control.activeDialog()
+    result["folder_from_preferences"] = panel.folder.text()
+    panel.set_folder(str(FOLDER))
+    result["start_text"] = panel.editor.toPlainText()  # no parameters.txt yet: the layout's
+    # A typo on line 3: the panel says where, and will not save.
+    lines = result["start_text"].splitlines()
+    index = next(i for i, line in enumerate(lines) if line.startswith("z_step"))
+    lines[index] = "z_step = -0.01"
+    panel.editor.setPlainText("\n".join(lines) + "\n")
+    result["bad_line"] = index + 1
+    result["bad_check"] = panel.check.text()
+    result["bad_save_enabled"] = panel.save_button.isEnabled()
+    result["bad_marks"] = [m.cursor.blockNumber() + 1 for m in panel.editor.extraSelections()]
+    result["bad_saved"] = panel.save_parameters()
+    window_shot("gui-mcs-panel-error.png")
+    # The MCS's own parameters: a slow scan at 0.01 mm.
+    panel.editor.setPlainText("# from the MCS\nz_step = 0.01\nmode = slow\n")
+    result["good_check"] = panel.check.text()
+    result["good_saved"] = panel.save_parameters()
+    result["parameters_file"] = (FOLDER / "parameters.txt").read_text(encoding="utf-8")
+    # File-system events only: the first commands.
+    result["started_events"] = panel.start(events=True, poll_ms=0)
+    result["state_events"] = panel.state.text()
+    (FOLDER / "commands.txt").write_text("1 SCF\n2 SCS\n", encoding="utf-8")
+    wait_for("two answers on file-system events", lambda: len(panel.log_rows()) >= 2, polling)
+
+
+def polling():
+    panel = state["panel"]
+    result["rows_events"] = panel.log_rows()
+    # Polling only: an unknown command and a scan with parameters that no longer make sense.
+    result["started_polling"] = panel.start(events=False, poll_ms=100)
+    result["state_polling"] = panel.state.text()
+    (FOLDER / "parameters.txt").write_text("start_z = 600\n", encoding="utf-8")
+    with open(FOLDER / "commands.txt", "a", encoding="utf-8") as handle:
+        handle.write("3 FROB\n4 SCF\n")
+    wait_for("two more answers by polling", lambda: len(panel.log_rows()) >= 4, replaced)
+
+
+def replaced():
+    panel = state["panel"]
+    # commands.txt replaced by rename, as many MCSs write it, with events and polling.
+    (FOLDER / "parameters.txt").write_text("z_step = 0.02\n", encoding="utf-8")
+    panel.start()
+    result["state_both"] = panel.state.text()
+    tmp = FOLDER / "commands.txt.new"
+    tmp.write_text("1 SCF\n2 SCS\n3 FROB\n4 SCF\n5 SCF\n6 STOP\n", encoding="utf-8")
+    os.replace(tmp, FOLDER / "commands.txt")
+    wait_for("the answers after the rename", lambda: len(panel.log_rows()) >= 6, done)
+
+
+def done():
+    panel = state["panel"]
+    result["rows"] = panel.log_rows()
+    result["editor_final"] = panel.editor.toPlainText()  # the MCS's last parameters.txt
+    window_shot("gui-mcs-panel.png")
+    panel.stop()
+    result["state_stopped"] = panel.state.text()
+    # Stopped: a new command waits for the next start.
+    with open(FOLDER / "commands.txt", "a", encoding="utf-8") as handle:
+        handle.write("7 SCF\n")
+    later(after_stop, 700)
+
+
+def after_stop():
+    panel = state["panel"]
+    result["rows_after_stop"] = len(panel.log_rows())
+    panel.reject()
+    result["panel_closed"] = not Gui.Control.activeDialog()
+    finish()
+
+
+start(begin)

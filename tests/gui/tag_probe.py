@@ -1,0 +1,133 @@
+# Run by FreeCAD's GUI (tests/gui/test_gui_tag.py): an engineer's own solids made into a layout.
+# Set the preferences on their page; model a carrier, two wafers and a sensor from Part
+# primitives; tag them with the workbench's commands (a box refused as a wafer, the document
+# left as it was; undo and redo); scan with the command; save the document for the test.
+import os
+import sys
+
+sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
+from probe_steps import artifact, finish, result, start, wait_for, window_shot  # noqa: E402
+
+import FreeCAD as App  # noqa: E402
+import FreeCADGui as Gui  # noqa: E402
+from PySide import QtGui  # noqa: E402
+
+state = {}
+
+
+def preferences_page():
+    from waferscan.gui import preferences
+    page = preferences.PreferencesPage()
+    page.loadSettings()
+    result["defaults"] = [page.half_thickness.isChecked(), page.position.property("value").Value,
+                          page.protrusion.property("value").Value, page.folder.text(),
+                          page.speed.value()]
+    page.half_thickness.setChecked(False)
+    page.thickness.lineEdit().setText("0.25 mm")
+    page.position.lineEdit().setText("0.016 in")  # a user may type other units
+    page.protrusion.lineEdit().setText("1500 um")
+    page.folder.setText(os.environ["WAFERSCAN_GUI_MCS"])
+    page.speed.setValue(40)
+    page.form.resize(520, 420)
+    page.form.grab().save(artifact("gui-preferences.png"))
+    page.saveSettings()
+    group = App.ParamGet(preferences.PARAMETERS)
+    result["stored"] = [group.GetFloat("ThicknessTolerance"), group.GetFloat("PositionTolerance"),
+                        group.GetFloat("ProtrusionLimit"), group.GetString("McsFolder"),
+                        group.GetInt("StepsPerFrame")]
+    again = preferences.PreferencesPage()
+    again.loadSettings()
+    result["reloaded"] = [again.half_thickness.isChecked(), again.thickness.property("value").Value,
+                          again.speed.value()]
+
+
+def model():
+    doc = App.newDocument("OwnSolids")
+    foup = doc.addObject("Part::Box", "Foup")
+    foup.Length, foup.Width, foup.Height = 340, 360, 70
+    foup.Placement.Base = App.Vector(-10, 30, -5)  # the carrier's origin is its corner
+    wafers = []
+    for name, z in (("Wafer1", 10.0), ("Wafer3", 30.0)):
+        wafer = doc.addObject("Part::Cylinder", name)
+        wafer.Radius, wafer.Height = 150, 0.775
+        wafer.Placement.Base = App.Vector(160, 200, z)
+        wafers.append(wafer)
+    bracket = doc.addObject("Part::Box", "Bracket")  # not a disc
+    bracket.Length = bracket.Width = bracket.Height = 20
+    sensor = doc.addObject("Part::Box", "Sensor")
+    sensor.Length, sensor.Width, sensor.Height = 160, 4, 4
+    sensor.Placement.Base = App.Vector(80, 66.6, 0)  # the beam 16.6 mm into the wafers
+    doc.recompute()
+    Gui.SendMsgToActiveView("ViewFit")
+    return doc, foup, wafers, bracket, sensor
+
+
+def role(obj):
+    return getattr(obj, "WaferScanRole", None)
+
+
+def begin():
+    Gui.activateWorkbench("WaferScanWorkbench")
+    preferences_page()
+    doc, foup, wafers, bracket, sensor = model()
+    undo_before = list(doc.UndoNames)
+    # A wafer and a box tagged together: the box is refused and the wafer stays untagged.
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(wafers[0])
+    Gui.Selection.addSelection(bracket)
+    Gui.runCommand("WaferScan_TagWafer")
+    from waferscan.gui import commands
+    boxes = [m for m in commands._session["messages"] if m.isVisible()]
+    result["refusal"] = boxes[-1].text() if boxes else None
+    result["after_refusal"] = [role(wafers[0]), role(bracket)]
+    result["undo_after_refusal"] = list(doc.UndoNames) == undo_before
+    for box in boxes:
+        box.close()
+    # Tag for real, one undo step each.
+    Gui.Selection.clearSelection()
+    for wafer in wafers:
+        Gui.Selection.addSelection(wafer)
+    Gui.runCommand("WaferScan_TagWafer")
+    result["tagged_wafers"] = [role(w) for w in wafers]
+    doc.undo()
+    result["after_undo"] = [role(w) for w in wafers]
+    doc.redo()
+    result["after_redo"] = [role(w) for w in wafers]
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(foup)
+    Gui.runCommand("WaferScan_TagCarrier")
+    foup.SlotCount = 5
+    foup.WaferThickness = 0.775
+    foup.SlotOrigin = App.Placement(App.Vector(170, 170, 15), App.Rotation())  # slot 1's seat
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(sensor)
+    Gui.runCommand("WaferScan_TagScanner")
+    sensor.Emitter = App.Vector(0, 2, 2)
+    sensor.Receiver = App.Vector(160, 2, 2)
+    sensor.Placement.Base = App.Vector(80, 64.6, -2)  # the emitter at Z 0
+    doc.recompute()
+    result["undo_names"] = list(doc.UndoNames)
+    Gui.Selection.clearSelection()
+    Gui.runCommand("WaferScan_RunScan")
+    state["doc"] = doc
+    panel = commands._session["panel"]
+    result["speed_from_preferences"] = panel.speed.value()
+    wait_for("the animation's end", lambda: panel.animation._ended, scanned)
+
+
+def scanned():
+    from waferscan.gui import commands
+    doc = state["doc"]
+    result["code"] = commands.last_result(doc).code
+    settings = [o for o in doc.Objects if getattr(o, "WaferScanRole", "") == "ScanSettings"][0]
+    result["settings"] = [settings.ThicknessTolerance, settings.PositionTolerance.Value,
+                          settings.ProtrusionLimit.Value]
+    result["undo_names_after_scan"] = list(doc.UndoNames)
+    window_shot("gui-own-solids.png")
+    doc.saveAs(os.path.join(os.environ["WAFERSCAN_GUI_MCS"], "own-solids.FCStd"))
+    Gui.Control.closeDialog()
+    QtGui.QApplication.clipboard().clear()
+    finish()
+
+
+start(begin)

@@ -1,0 +1,59 @@
+"""An engineer's own solids made into a layout in a real FreeCAD GUI: the preferences page, the tag
+commands with their undo transactions and refusals, and a scan of the result that agrees with a
+headless scan of the saved document."""
+
+from pathlib import Path
+
+import pytest
+
+from waferscan.cad.document_scan import scan_document
+from waferscan.cad.layout_files import opened_layout
+
+REPO = Path(__file__).resolve().parents[2]
+PROBE = Path(__file__).resolve().with_name("tag_probe.py")
+ARTIFACTS = REPO / "test-artifacts"
+
+
+@pytest.fixture(scope="module")
+def tagged(run_gui_probe, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("own-solids")
+    return run_gui_probe(PROBE, WAFERSCAN_GUI_MCS=str(folder),
+                         WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS)), folder
+
+
+def test_the_preferences_page_stores_what_was_typed_in_any_unit(tagged):
+    gui, folder = tagged
+    assert gui["defaults"] == [True, 0.5, 1.0, "", 10]
+    assert gui["stored"][:3] == pytest.approx([0.25, 0.4064, 1.5])  # 0.016 in, 1500 um
+    assert gui["stored"][3:] == [str(folder), 40]
+    assert gui["reloaded"] == [False, pytest.approx(0.25), 40]
+
+
+def test_a_box_is_refused_as_a_wafer_and_nothing_changes(tagged):
+    gui, _ = tagged
+    assert "Bracket is not a wafer" in gui["refusal"]
+    assert gui["after_refusal"] == [None, None]
+    assert gui["undo_after_refusal"] is True
+
+
+def test_tagging_is_one_undo_step_each(tagged):
+    gui, _ = tagged
+    assert gui["tagged_wafers"] == ["Wafer", "Wafer"]
+    assert gui["after_undo"] == [None, None]
+    assert gui["after_redo"] == ["Wafer", "Wafer"]
+    assert gui["undo_names"][:3] == ["Tag as scanner", "Tag as carrier", "Tag as wafer"]
+
+
+def test_the_scan_of_tagged_solids_uses_the_preferences_and_agrees_headless(tagged):
+    gui, folder = tagged
+    assert gui["code"] == "10100"
+    # No ScanSettings in the document: the scan added one, with the preferences' tolerances,
+    # as its own undo step.
+    assert gui["settings"] == pytest.approx([0.25, 0.4064, 1.5])
+    assert "Add WaferScan scan settings" in gui["undo_names_after_scan"]
+    assert gui["speed_from_preferences"] == 40
+    with opened_layout(folder / "own-solids.FCStd") as doc:
+        headless = scan_document(doc, "analytic")
+    assert headless.code == gui["code"]
+    assert (ARTIFACTS / "gui-own-solids.png").stat().st_size > 1000
+    assert (ARTIFACTS / "gui-preferences.png").stat().st_size > 1000
