@@ -29,7 +29,9 @@ def begin():
     panel.speed.setValue(5)  # slow for now, so that a pause lands mid-scan
     result["frames"] = 0
     panel.animation.moved.connect(lambda k, z: result.__setitem__("frames", result["frames"] + 1))
-    wait_for("the beam blocked by a wafer", lambda: panel.animation._lit, paused_on_a_wafer)
+    # Pause on the cross-slotted wafer of slot 5, as the README's screenshot shows.
+    wait_for("the beam blocked by LP1_W04", lambda: "LP1_W04" in panel.animation._lit,
+             paused_on_a_wafer)
 
 
 def paused_on_a_wafer():
@@ -93,6 +95,7 @@ def dialogs():
     dialog.grab().save(artifact("gui-slot-code.png"))
     Gui.ActiveDocument.ActiveView.saveImage(artifact("gui-after-scan.png"), 1200, 800, "White")
     window_shot("gui-main-window.png")
+    App.ActiveDocument.saveAs(os.environ["WAFERSCAN_GUI_SAVE"])
     check = commands.cross_check(App.ActiveDocument)
     result["crosscheck_ok"] = check.ok
     result["crosscheck_deviation"] = check.largest_deviation

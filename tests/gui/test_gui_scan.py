@@ -20,10 +20,16 @@ SHOTS = ("gui-results-table.png", "gui-slot-code.png", "gui-after-scan.png",
 
 
 @pytest.fixture(scope="module")
-def gui(run_gui_probe):
+def saved(tmp_path_factory):
+    return tmp_path_factory.mktemp("gui-scan") / "paper-scanned.FCStd"
+
+
+@pytest.fixture(scope="module")
+def gui(run_gui_probe, saved):
     for name in SHOTS:
         (ARTIFACTS / name).unlink(missing_ok=True)
-    return run_gui_probe(PROBE, WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS))
+    return run_gui_probe(PROBE, WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS),
+                         WAFERSCAN_GUI_SAVE=str(saved))
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +54,25 @@ def test_the_table_and_the_dialog_show_the_headless_results(gui, headless):
     assert "".join(str(E87[s.state]) for s in result.slot_map.slots) == result.e87
 
 
+def test_the_results_survive_save_and_reload_as_a_spreadsheet(gui, saved, headless):
+    import FreeCAD as App
+
+    result, _ = headless
+    doc = App.openDocument(str(saved))
+    try:
+        sheet = doc.getObject("ScanResults")
+        assert sheet.get("code") == result.code
+        rows = [[str(sheet.get(f"{column}{row}")) if sheet.getContents(f"{column}{row}") else ""
+                 for column in "ABCDEFG"] for row in range(2, 27)]
+    finally:
+        App.closeDocument(doc.Name)
+    assert [row[0] for row in rows] == [str(s) for s in range(1, 26)]
+    assert [row[6] for row in rows] == [r[6] for r in gui["rows"]]
+    for column in (1, 3, 4, 5):  # numbers: slot Z, IN, OUT, diff
+        assert [float(row[column]) if row[column] else None for row in rows] == \
+            [float(r[column]) if r[column] else None for r in gui["rows"]]
+
+
 def test_states_are_coloured_and_a_row_selects_its_wafer(gui):
     from waferscan.core.report import STATE_COLOURS
 
@@ -64,7 +89,8 @@ def test_the_task_panel_pauses_and_shows_what_the_beam_sees(gui):
     assert gui["task_panel_shown"]
     assert gui["paused_running"] is False
     assert gui["paused_buttons"] == [True, False, True]
-    assert gui["paused_beam_label"].startswith("blocked by LP1_W")
+    assert gui["paused_beam_label"] == "blocked by LP1_W04"
+    assert 336.6 <= gui["paused_z"] <= 341.95  # the cross-slotted wafer's run
     assert gui["paused_position_field"] == pytest.approx(gui["paused_z"], abs=1e-4)
     assert gui["highlight"] == pytest.approx([0.95, 0.55, 0.1], abs=0.01)
     assert gui["beam_colour"] == pytest.approx([0.9, 0.1, 0.1], abs=0.01)

@@ -262,7 +262,9 @@ class OpenScenario(_Command):
     tip = "Build a layout from a scenario file (.toml)"
 
     def run(self):
-        path, _ = QtGui.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Open scenario", "",
+        from ..cli import paper_scenario
+        path, _ = QtGui.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Open scenario",
+                                                    str(paper_scenario().parent),
                                                     "Scenario (*.toml)")
         if path:
             open_scenario(path)

@@ -75,6 +75,7 @@ class ResultsTable(QtGui.QDialog):
                     item.setTextAlignment(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter)
                 self.table.setItem(row, column, item)
         self.table.resizeColumnsToContents()
+        self.table.horizontalHeader().setStretchLastSection(True)
         self.table.itemSelectionChanged.connect(self._select_wafer)
         export = QtGui.QPushButton("Export CSV…", self)
         export.setToolTip("Save the table as a CSV file")
@@ -83,7 +84,7 @@ class ResultsTable(QtGui.QDialog):
         layout.addWidget(QtGui.QLabel(f"Slot code <b>{result.code}</b> (engine {result.engine})"))
         layout.addWidget(self.table)
         layout.addWidget(export)
-        self.resize(760, 620)
+        self.resize(620, 700)
 
     def rows(self):
         """The table's text, row by row (what a user sees)."""
