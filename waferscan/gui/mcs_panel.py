@@ -301,6 +301,7 @@ class McsTaskPanel:
                  answer.status, answer.code or answer.message)
         for column, text in enumerate(cells):
             item = QtGui.QTableWidgetItem(text)
+            item.setToolTip(text)
             if column == 3:
                 item.setForeground(QtGui.QColor(29, 122, 46) if answer.status == "ok"
                                    else QtGui.QColor(192, 16, 16))
