@@ -48,6 +48,9 @@ def paused_on_a_wafer():
     wafer = App.ActiveDocument.getObjectsByLabel(lit[0])[0]
     result["highlight"] = list(wafer.ViewObject.ShapeColor[:3])
     result["beam_colour"] = list(panel.animation.beam.ViewObject.LineColor[:3])
+    carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
+    result["see_through_during"] = [carrier.ViewObject.Transparency,
+                                    panel.animation.beam.ViewObject.LineWidth]
     view = Gui.ActiveDocument.ActiveView
     view.saveImage(artifact("gui-during-scan.png"), 1200, 800, "White")
     window_shot("gui-scan-panel.png")
@@ -66,6 +69,9 @@ def after_animation():
     from waferscan.gui import commands
     panel = state["panel"]
     result["completed"] = panel.animation.completed
+    carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
+    result["see_through_after"] = [carrier.ViewObject.Transparency,
+                                   panel.animation.beam.ViewObject.LineWidth]
     result["panel_status"] = panel.status.text()
     wait_for("the results dialogs", lambda: len(commands._session["dialogs"]) == 2, dialogs)
 

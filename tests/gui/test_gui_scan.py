@@ -94,6 +94,9 @@ def test_the_task_panel_pauses_and_shows_what_the_beam_sees(gui):
     assert gui["paused_position_field"] == pytest.approx(gui["paused_z"], abs=1e-4)
     assert gui["highlight"] == pytest.approx([0.95, 0.55, 0.1], abs=0.01)
     assert gui["beam_colour"] == pytest.approx([0.9, 0.1, 0.1], abs=0.01)
+    # The carrier is see-through and the beam thick while the scan runs, as before after it.
+    assert gui["see_through_during"] == [70, 4.0]
+    assert gui["see_through_after"][0] == 0 and gui["see_through_after"][1] < 4.0
     assert gui["completed"] is True
     assert "1101221001220001010000010" in gui["panel_status"]
     # 5 steps a frame up to the pause, then 60: the whole scan of 5401 positions in between.

@@ -56,6 +56,17 @@ class ScanAnimation(QtCore.QObject):
         Gui.getMainWindow().statusBar().addPermanentWidget(self.bar)
         self._ended = False
         self._lit = ()
+        # While it runs, the carriers are see-through and the beam drawn thick: the beam lies
+        # inside the carrier, behind its walls.
+        self._restore_view = []
+        for obj in [i.obj for i in scene.carriers] + [self.beam]:
+            view = obj.ViewObject
+            if view is None:
+                continue
+            for prop, value in (("Transparency", 70), ("LineWidth", 4.0)):
+                if prop in view.PropertiesList and (obj is self.beam) == (prop == "LineWidth"):
+                    self._restore_view.append((view, prop, getattr(view, prop)))
+                    setattr(view, prop, value)
 
     def set_speed(self, steps_per_frame):
         """Scan positions advanced per frame; takes effect at the next frame."""
@@ -87,6 +98,8 @@ class ScanAnimation(QtCore.QObject):
             self._light(())
             self.mover.restore()
             self._set_beam(BEAM_CLEAR)
+            for view, prop, value in self._restore_view:
+                setattr(view, prop, value)
         except Exception as exc:  # the document changed under the animation
             self.fault = self.fault or f"{type(exc).__name__}: {exc}"
         Gui.getMainWindow().statusBar().removeWidget(self.bar)
