@@ -81,6 +81,9 @@ def dialogs():
     table, dialog = commands._session["dialogs"]
     Gui.updateGui()
     result["rows"] = table.rows()
+    csv_path = os.environ["WAFERSCAN_GUI_SAVE"].replace(".FCStd", ".csv")
+    table.export_csv(csv_path)
+    result["csv"] = csv_path
     result["state_colours"] = [table.table.item(r, 6).background().color().name()
                                for r in range(table.table.rowCount())]
     result["dialog_code"] = dialog.code_label.text()

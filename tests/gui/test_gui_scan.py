@@ -54,6 +54,15 @@ def test_the_table_and_the_dialog_show_the_headless_results(gui, headless):
     assert "".join(str(E87[s.state]) for s in result.slot_map.slots) == result.e87
 
 
+def test_the_csv_export_is_the_table(gui):
+    import csv
+
+    with open(gui["csv"], newline="", encoding="utf-8") as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0] == ["Slot", "Slot Z [mm]", "Wafer", "IN [mm]", "OUT [mm]", "Diff [mm]", "State"]
+    assert rows[1:] == gui["rows"]
+
+
 def test_the_results_survive_save_and_reload_as_a_spreadsheet(gui, saved, headless):
     import FreeCAD as App
 
