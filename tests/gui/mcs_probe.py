@@ -93,6 +93,17 @@ def after_stop():
     result["rows_after_stop"] = len(panel.log_rows())
     panel.reject()
     result["panel_closed"] = not Gui.Control.activeDialog()
+    # One task panel at a time: a scan started while the link watches ends the watching.
+    Gui.runCommand("WaferScan_McsLink")
+    from waferscan.gui import commands
+    panel = commands._session["panel"]
+    second = FOLDER / "second"
+    second.mkdir()
+    panel.set_folder(str(second))
+    result["watching_before_scan"] = panel.start()
+    Gui.runCommand("WaferScan_RunScan")
+    result["watching_after_scan"] = panel.watching
+    commands._session["panel"].reject()
     finish()
 
 

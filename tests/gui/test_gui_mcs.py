@@ -100,4 +100,5 @@ def test_watching_states(folders):
     assert "file-system events and polling every 0.5 s" in probe["state_both"]
     assert probe["state_stopped"] == "not watching"
     assert probe["panel_closed"]
+    assert probe["watching_before_scan"] is True and probe["watching_after_scan"] is False
     assert (ARTIFACTS / "gui-mcs-panel.png").stat().st_size > 1000

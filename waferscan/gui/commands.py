@@ -47,9 +47,15 @@ def _alive(widget):
 
 
 def _show_task_panel(panel):
+    """One task panel at a time, as in FreeCAD: the one open is shut down (its animation
+    stopped, its watching ended) before the new one shows."""
+    previous = _session.get("panel")
+    if previous is not None:
+        previous.shut_down()
     if Gui.Control.activeDialog():
         Gui.Control.closeDialog()
     Gui.Control.showDialog(panel)
+    _session["panel"] = panel
     return panel
 
 
@@ -134,7 +140,7 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
     _session["animation"] = animation
     on_completed = (lambda: show_results_dialogs(doc)) if show_results else None
     if panel:
-        _session["panel"] = _show_task_panel(ScanTaskPanel(animation, on_completed))
+        _show_task_panel(ScanTaskPanel(animation, on_completed))
     elif on_completed is not None:
         animation.finished.connect(lambda: animation.completed and on_completed())
     animation.play()
@@ -165,8 +171,7 @@ def show_results_dialogs(doc=None, which=("table", "code")):
 def open_mcs_panel(doc, folder=None):
     from .mcs_panel import McsTaskPanel
 
-    _session["panel"] = _show_task_panel(McsTaskPanel(doc, folder))
-    return _session["panel"]
+    return _show_task_panel(McsTaskPanel(doc, folder))
 
 
 def tag_selection(role, selection=None):

@@ -12,6 +12,7 @@ from pathlib import Path
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+from shiboken2 import isValid
 
 from ..addon import icon_path
 from ..cad.mcs_watch import document_scanner
@@ -243,9 +244,11 @@ class McsTaskPanel:
             self.watcher = None
         if self.link is not None:
             App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
-            self._show_state("not watching")
         self.link = None
-        self._buttons()
+        # FreeCAD deletes the widgets of a panel it closed (the form itself may look alive).
+        if isValid(self.state):
+            self._show_state("not watching")
+            self._buttons()
 
     @property
     def watching(self):
@@ -330,8 +333,11 @@ class McsTaskPanel:
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Close)
 
-    def reject(self):
+    def shut_down(self):
         self.stop()
+
+    def reject(self):
+        self.shut_down()
         Gui.Control.closeDialog()
         return True
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import FreeCADGui as Gui
 from PySide import QtGui
+from shiboken2 import isValid
 
 from ..addon import icon_path
 from .inputs import length_input, set_length
@@ -80,6 +81,8 @@ class ScanTaskPanel:
         self._buttons()
 
     def _buttons(self):
+        if not isValid(self.status):  # FreeCAD closed the panel; the animation ran on
+            return
         ended = self.animation._ended
         running = self.animation.running
         self.play_button.setEnabled(not ended and not running)
@@ -87,6 +90,8 @@ class ScanTaskPanel:
         self.stop_button.setEnabled(not ended)
 
     def _moved(self, k, z):
+        if not isValid(self.status):
+            return
         self._buttons()
         set_length(self.z, z)
         self.progress.setValue(k)
@@ -96,6 +101,8 @@ class ScanTaskPanel:
 
     def _finished(self):
         animation = self.animation
+        if not isValid(self.status):
+            return
         self._buttons()
         if animation.fault:
             self.status.setText(f"Stopped: {animation.fault}")
@@ -112,8 +119,11 @@ class ScanTaskPanel:
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Close)
 
-    def reject(self):
+    def shut_down(self):
         self.animation.stop()
+
+    def reject(self):
+        self.shut_down()
         Gui.Control.closeDialog()
         return True
 
