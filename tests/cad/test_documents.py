@@ -238,3 +238,18 @@ def test_save_and_reload_keep_roles_proxies_and_results(paper_doc, tmp_path):
         assert_same_layout(read_layout(reopened), PAPER)
     finally:
         App.closeDocument(reopened.Name)
+
+
+@pytest.mark.parametrize("prop, value, message", [
+    ("FinalZ", 100.0, "ScanSettings: final_z (100) is below start_z (280)"),
+    ("ScanSpeed", 0.0, "ScanSettings.ScanSpeed: must be greater than 0"),
+    ("SensorResponse", -0.001, "ScanSettings.SensorResponse: must not be negative"),
+    ("ZStep", 1e-9, "ScanSettings: z_step 1e-09 over 270 mm makes"),
+])
+def test_scan_settings_typed_in_the_property_editor_are_checked(paper_doc, prop, value, message):
+    settings = paper_doc.getObjectsByLabel("ScanSettings")[0]
+    setattr(settings, prop, value)
+    with pytest.raises(InputError) as caught:
+        scan_document(paper_doc, "analytic")
+    assert message in str(caught.value)
+    assert str(caught.value).startswith(f"{paper_doc.Name}: ")

@@ -100,6 +100,15 @@ def after_stop():
     second = FOLDER / "second"
     second.mkdir()
     panel.set_folder(str(second))
+    result["watching_second"] = panel.start()
+    # A folder typed into the field: watching stops, that folder's parameters show.
+    third = FOLDER / "third"
+    third.mkdir()
+    panel.folder.setText(str(third))
+    panel.folder.editingFinished.emit()
+    result["watching_after_folder_edit"] = panel.watching
+    result["editor_after_folder_edit"] = panel.editor.toPlainText()
+    panel.folder.editingFinished.emit()  # focus lost again, nothing changed: nothing happens
     result["watching_before_scan"] = panel.start()
     Gui.runCommand("WaferScan_RunScan")
     result["watching_after_scan"] = panel.watching

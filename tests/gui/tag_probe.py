@@ -126,6 +126,69 @@ def scanned():
     window_shot("gui-own-solids.png")
     doc.saveAs(os.path.join(os.environ["WAFERSCAN_GUI_MCS"], "own-solids.FCStd"))
     Gui.Control.closeDialog()
+    edits(doc, settings)
+
+
+def message_boxes():
+    from waferscan.gui import commands
+    texts = [m.text() for m in commands._session["messages"] if m.isVisible()]
+    for box in commands._session["messages"]:
+        if box.isVisible():
+            box.close()
+    return texts
+
+
+class ForeignPanel:
+    """Another tool's task panel (as a sketch in edit would be)."""
+
+    def __init__(self):
+        self.form = QtGui.QLabel("someone else's task")
+
+
+def edits(doc, settings):
+    from waferscan.gui import commands
+    # A range typed wrong in the property editor: a message, no traceback, no animation.
+    settings.FinalZ = -5.0
+    Gui.runCommand("WaferScan_RunScan")
+    result["bad_range_messages"] = message_boxes()
+    result["bad_range_panel"] = bool(Gui.Control.activeDialog())
+    settings.FinalZ = 60.0
+    # Another tool's task panel is open: ours waits for it.
+    Gui.Control.showDialog(ForeignPanel())
+    Gui.runCommand("WaferScan_RunScan")
+    result["foreign_messages"] = message_boxes()
+    Gui.Control.closeDialog()
+    # Exact edges, scanned downwards: the animation runs top to bottom.
+    settings.ZStep = 0.0
+    settings.Direction = "down"
+    Gui.runCommand("WaferScan_RunScan")
+    panel = commands._session["panel"]
+    result["exact_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
+    result["exact_first_z"] = None
+    panel.animation.moved.connect(
+        lambda k, z: result["exact_first_z"] is None and result.__setitem__("exact_first_z", z))
+    state["exact"] = panel
+    wait_for("the exact animation's end", lambda: panel.animation._ended,
+             lambda: after_exact(doc))
+
+
+def after_exact(doc):
+    from waferscan.gui import commands
+    panel = state["exact"]
+    result["exact_completed"] = panel.animation.completed
+    result["exact_code"] = commands.last_result(doc).code
+    Gui.Control.closeDialog()
+    for dialog in commands._session["dialogs"]:
+        dialog.close()
+    # A wafer deleted after the scan: the results table and the cross-check see the document
+    # as it is now.
+    doc.removeObject("Wafer3")
+    doc.recompute()
+    Gui.runCommand("WaferScan_Results")
+    table = commands._session["dialogs"][0]
+    result["rows_after_delete"] = table.rows()
+    Gui.runCommand("WaferScan_CrossCheck")
+    result["crosscheck_after_delete"] = commands._session["dialogs"][0].text()
     QtGui.QApplication.clipboard().clear()
     finish()
 

@@ -100,5 +100,7 @@ def test_watching_states(folders):
     assert "file-system events and polling every 0.5 s" in probe["state_both"]
     assert probe["state_stopped"] == "not watching"
     assert probe["panel_closed"]
+    assert probe["watching_second"] is True and probe["watching_after_folder_edit"] is False
+    assert "z_step = 0.05" in probe["editor_after_folder_edit"]  # no file there: the layout's
     assert probe["watching_before_scan"] is True and probe["watching_after_scan"] is False
     assert (ARTIFACTS / "gui-mcs-panel.png").stat().st_size > 1000

@@ -57,3 +57,31 @@ def test_the_scan_of_tagged_solids_uses_the_preferences_and_agrees_headless(tagg
     assert headless.code == gui["code"]
     assert (ARTIFACTS / "gui-own-solids.png").stat().st_size > 1000
     assert (ARTIFACTS / "gui-preferences.png").stat().st_size > 1000
+
+
+def test_a_range_typed_wrong_is_a_message_not_a_traceback(tagged):
+    gui, _ = tagged
+    assert len(gui["bad_range_messages"]) == 1
+    assert "ScanSettings: final_z (-5) is below start_z (0)" in gui["bad_range_messages"][0]
+    assert gui["bad_range_panel"] is False
+
+
+def test_another_tools_task_panel_is_left_alone(tagged):
+    gui, _ = tagged
+    assert gui["foreign_messages"] == ["task panel: another task panel is open: close it first"]
+
+
+def test_exact_edges_scanned_downwards_animate_top_to_bottom(tagged):
+    gui, _ = tagged
+    assert "exact edges" in gui["exact_about"] and "direction down" in gui["exact_about"]
+    assert gui["exact_first_z"] == pytest.approx(60.0)
+    assert gui["exact_completed"] is True
+    assert gui["exact_code"] == "10100"
+
+
+def test_views_after_a_deletion_show_the_document_as_it_is(tagged):
+    gui, _ = tagged
+    rows = gui["rows_after_delete"]
+    assert [row[2] for row in rows] == ["Wafer1", "-", "-", "-", "-"]
+    assert [row[6] for row in rows] == ["present", "empty", "empty", "empty", "empty"]
+    assert gui["crosscheck_after_delete"].startswith("Confirmed")

@@ -120,9 +120,18 @@ def _settings(scene, beam, carriers):
                 MappingTolerances(), None)
     obj = roles.role_holder(scene.settings[0].obj)
     values = {}
+    checks = {**schema.SCAN_KEYS, **schema.MAPPING_KEYS}
     for prop, _, field, _ in SETTINGS_PROPERTIES:
         if prop in obj.PropertiesList:
-            values[field] = _value(getattr(obj, prop))
+            try:  # a value typed into the property editor is checked as a scenario's would be
+                values[field] = checks[field](_value(getattr(obj, prop)))
+            except ValueError as exc:
+                raise scene.error(f"{obj.Label}.{prop}: {exc}") from None
+    try:
+        schema.check_scan_range(values.get("start_z", 0.0), values.get("final_z", 0.0),
+                                values.get("z_step", 0.0))
+    except ValueError as exc:
+        raise scene.error(f"{obj.Label}: {exc}") from None
     scan = ScanParameters(**{k: v for k, v in values.items()
                              if k in ScanParameters.__dataclass_fields__},
                           mode=obj.Mode, direction=obj.Direction)

@@ -256,7 +256,10 @@ def atomic_write_text(path, text):
     mode = _mode_for(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode, or the umask's
+        try:
+            os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode, or the umask's
+        except OSError:
+            pass  # a share without Unix modes (CIFS, vfat): it has none to keep
         with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
             handle.write(text)
             handle.flush()

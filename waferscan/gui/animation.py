@@ -11,16 +11,22 @@ from PySide import QtCore, QtGui
 
 from ..cad.document_scan import mover_for
 from ..cad.reader import DocumentScene
+from ..core.model import DOWN, UPDOWN
 
 BEAM_CLEAR, BEAM_BLOCKED = (0.1, 0.6, 0.1), (0.9, 0.1, 0.1)
 WAFER_HIT = (0.95, 0.55, 0.1)
+EXACT_FRAMES = 2000  # an exact scan (z_step = 0) has no steps: it is drawn at this many
 
 
 class ScanAnimation(QtCore.QObject):
     """Play, pause and stop an animated scan of ``doc`` whose result is ``result``.
 
-    ``moved(k, z)`` is emitted at every frame; ``finished`` when the animation ends, at the last
-    position (``completed`` is then True), by ``stop()``, or by a fault (``fault`` says which).
+    The robot moves as the scan does: up, down, or up then down (the scan's direction), through
+    its positions. The beam is red and a wafer highlighted while the beam meets it (the result's
+    per-wafer intervals; the sensor's latched runs are what the table shows).
+
+    ``moved(frame, z)`` is emitted at every frame; ``finished`` when the animation ends, at the
+    last frame (``completed`` is then True), by ``stop()``, or by a fault (``fault`` says which).
     """
 
     moved = QtCore.Signal(int, float)
@@ -38,19 +44,25 @@ class ScanAnimation(QtCore.QObject):
         # raises) is seen by name at every frame and ends the animation.
         self.tracked = {o.Name: o.Label for o in self.mover.moved_objects()}
         self.tracked.update({i.obj.Name: i.obj.Label for i in scene.wafers + scene.carriers})
-        self.spans = [(run.bottom, run.top, run.wafers) for run in result.runs]
+        self.spans = [(w.z_in, w.z_out, w.name) for w in result.wafers if w.z_in is not None]
+        scan = self.scan
+        if scan.exact:
+            self.step, self.count = (scan.final_z - scan.start_z) / EXACT_FRAMES, EXACT_FRAMES + 1
+        else:
+            self.step, self.count = scan.z_step, scan.position_count
+        self.frames = 2 * self.count - 1 if scan.direction == UPDOWN else self.count
         self.wafers = {w.Label: w for w in doc.Objects
                        if getattr(w, "WaferScanRole", "") == "Wafer"}
         self.colours = {label: tuple(w.ViewObject.ShapeColor[:3])
                         for label, w in self.wafers.items() if w.ViewObject}
-        self.k = 0
-        self.z = self.scan.position(0)
+        self.k = 0  # the frame shown next
+        self.z = self.position(0)
         self.completed = False
         self.fault = None
         self.timer = QtCore.QTimer(self)
         self.timer.timeout.connect(self._tick)
         self.bar = QtGui.QProgressBar()
-        self.bar.setRange(0, self.scan.position_count - 1)
+        self.bar.setRange(0, self.frames - 1)
         self.bar.setMaximumWidth(220)
         self.bar.setFormat("scanning %p %")
         Gui.getMainWindow().statusBar().addPermanentWidget(self.bar)
@@ -59,14 +71,24 @@ class ScanAnimation(QtCore.QObject):
         # While it runs, the carriers are see-through and the beam drawn thick: the beam lies
         # inside the carrier, behind its walls.
         self._restore_view = []
-        for obj in [i.obj for i in scene.carriers] + [self.beam]:
+        changes = [(i.obj, "Transparency", 70) for i in scene.carriers] + \
+            [(self.beam, "LineWidth", 4.0), (self.beam, "ShapeColor", None),
+             (self.beam, "LineColor", None)]
+        for obj, prop, value in changes:
             view = obj.ViewObject
-            if view is None:
-                continue
-            for prop, value in (("Transparency", 70), ("LineWidth", 4.0)):
-                if prop in view.PropertiesList and (obj is self.beam) == (prop == "LineWidth"):
-                    self._restore_view.append((view, prop, getattr(view, prop)))
+            if view is not None and prop in view.PropertiesList:
+                self._restore_view.append((view, prop, getattr(view, prop)))
+                if value is not None:
                     setattr(view, prop, value)
+
+    def position(self, frame):
+        """The scan position shown at a frame, in the scan's direction."""
+        k = frame
+        if self.scan.direction == DOWN:
+            k = self.count - 1 - frame
+        elif self.scan.direction == UPDOWN and frame >= self.count:
+            k = 2 * (self.count - 1) - frame
+        return self.scan.start_z + k * self.step
 
     def set_speed(self, steps_per_frame):
         """Scan positions advanced per frame; takes effect at the next frame."""
@@ -94,14 +116,15 @@ class ScanAnimation(QtCore.QObject):
         self._ended = True
         self.timer.stop()
         self.completed, self.fault = completed, fault
-        try:
-            self._light(())
-            self.mover.restore()
-            self._set_beam(BEAM_CLEAR)
-            for view, prop, value in self._restore_view:
-                setattr(view, prop, value)
-        except Exception as exc:  # the document changed under the animation
-            self.fault = self.fault or f"{type(exc).__name__}: {exc}"
+        # Each put back on its own: one that fails (its object deleted) leaves the others.
+        undo = [lambda: self._light(()), self.mover.restore]
+        undo += [lambda v=view, p=prop, x=value: setattr(v, p, x)
+                 for view, prop, value in self._restore_view]
+        for step in undo:
+            try:
+                step()
+            except Exception as exc:  # the document changed under the animation
+                self.fault = self.fault or f"{type(exc).__name__}: {exc}"
         Gui.getMainWindow().statusBar().removeWidget(self.bar)
         self.bar.deleteLater()
         if self.fault:
@@ -125,19 +148,18 @@ class ScanAnimation(QtCore.QObject):
         self._lit = names
 
     def _tick(self):
-        last = self.scan.position_count - 1
+        last = self.frames - 1
         try:
             gone = [label for name, label in self.tracked.items()
                     if self.doc.getObject(name) is None]
             if gone:
                 self._end(fault=f"{', '.join(gone)} left the document; run the scan again")
                 return
-            self.z = self.scan.position(self.k)
+            self.z = self.position(self.k)
             self.mover.move_to(self.z)
-            hit = next((names for bottom, top, names in self.spans
-                        if bottom <= self.z <= top), ())
+            hit = tuple(name for z_in, z_out, name in self.spans if z_in <= self.z <= z_out)
             self._set_beam(BEAM_BLOCKED if hit else BEAM_CLEAR)
-            self._light(tuple(hit))
+            self._light(hit)
         except Exception as exc:  # e.g. a robot link deleted while the animation runs
             self._end(fault=f"{type(exc).__name__}: {exc}")
             return

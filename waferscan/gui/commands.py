@@ -46,9 +46,21 @@ def _alive(widget):
         return False
 
 
+def _ours_open():
+    panel = _session.get("panel")
+    return panel is not None and panel.is_open()
+
+
+def check_no_other_task_panel():
+    """One task panel at a time, as in FreeCAD: another tool's open panel (a sketch being
+    edited, say) is the user's to close, not ours."""
+    if Gui.Control.activeDialog() and not _ours_open():
+        raise InputError("task panel", None, "another task panel is open: close it first")
+
+
 def _show_task_panel(panel):
-    """One task panel at a time, as in FreeCAD: the one open is shut down (its animation
-    stopped, its watching ended) before the new one shows."""
+    """Show our panel; ours that is open is shut down first (its animation stopped, its
+    watching ended)."""
     previous = _session.get("panel")
     if previous is not None:
         previous.shut_down()
@@ -131,6 +143,8 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
     from .animation import ScanAnimation
     from .scan_panel import ScanTaskPanel
 
+    if panel:
+        check_no_other_task_panel()
     result = scan(doc)
     previous = _session["animation"]
     if previous is not None:
@@ -148,8 +162,12 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
 
 
 def results_for(doc):
-    """The document's last scan, scanning it now when it has none."""
-    return last_result(doc) or scan(doc)
+    """The document's results as it is now: scanned afresh (a millisecond), so that a wafer
+    moved or deleted since the last Run scan is seen. The spreadsheet keeps Run scan's."""
+    from ..cad.document_scan import scan_document
+
+    ensure_settings(doc)
+    return scan_document(doc, "analytic")
 
 
 def show_results_dialogs(doc=None, which=("table", "code")):
@@ -163,6 +181,7 @@ def show_results_dialogs(doc=None, which=("table", "code")):
     if "code" in which:
         dialogs.append(SlotCodeDialog(result))
     for dialog in dialogs:
+        dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
         dialog.show()
     _session["dialogs"] = dialogs
     return dialogs
@@ -171,6 +190,7 @@ def show_results_dialogs(doc=None, which=("table", "code")):
 def open_mcs_panel(doc, folder=None):
     from .mcs_panel import McsTaskPanel
 
+    check_no_other_task_panel()
     return _show_task_panel(McsTaskPanel(doc, folder))
 
 
@@ -227,6 +247,7 @@ def cross_check(doc):
                             QtGui.QMessageBox.Ok, Gui.getMainWindow())
     box.setDetailedText(text)
     box.setModal(False)
+    box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()
     _session["dialogs"] = [box]
     return check

@@ -12,7 +12,6 @@ from pathlib import Path
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
-from shiboken2 import isValid
 
 from ..addon import icon_path
 from ..cad.mcs_watch import document_scanner
@@ -22,6 +21,7 @@ from ..core.mcs import (COMMANDS, PARAMETERS, apply_parameters, atomic_write_tex
                         format_parameters, parse_parameters)
 from ..core.mcs_link import McsLink, ScanStopped
 from . import preferences
+from .qt import alive
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
 
@@ -54,6 +54,7 @@ class McsTaskPanel:
         self._polling = False
         # The text the panel last put in the editor, and the file's text as last seen.
         self._shown, self._disk = None, None
+        self._folder = None
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("WaferScan MCS link")
         self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_McsLink.svg")))
@@ -62,8 +63,9 @@ class McsTaskPanel:
         self.folder.setToolTip("The folder where the MCS writes parameters.txt and commands.txt "
                                "and reads results.txt")
         browse = QtGui.QPushButton("Browse…")
+        browse.setToolTip("Choose the MCS folder")
         browse.clicked.connect(self._browse)
-        self.folder.editingFinished.connect(self.load_parameters)
+        self.folder.editingFinished.connect(self._folder_edited)
         folder_row = QtGui.QHBoxLayout()
         folder_row.addWidget(self.folder, 1)
         folder_row.addWidget(browse)
@@ -98,6 +100,7 @@ class McsTaskPanel:
         self.start_button.setToolTip("Carry out each new command of commands.txt and answer it "
                                      "in results.txt")
         self.stop_button = QtGui.QPushButton("Stop watching")
+        self.stop_button.setToolTip("Stop carrying out commands; new ones wait for the next start")
         self.start_button.clicked.connect(lambda: self.start())
         self.stop_button.clicked.connect(self.stop)
         self.state = QtGui.QLabel("not watching")
@@ -123,6 +126,7 @@ class McsTaskPanel:
         layout.addLayout(folder_row)
         layout.addWidget(parameters)
         layout.addWidget(watching, 1)
+        self._folder = self.folder.text()
         self.load_parameters()
         self._buttons()
 
@@ -138,10 +142,18 @@ class McsTaskPanel:
             self.set_folder(chosen)
 
     def set_folder(self, folder):
+        """Another folder: watching stops (start again to watch the new one), its
+        parameters.txt is shown."""
         if self.link is not None:
             self.stop()
         self.folder.setText(str(folder))
+        self._folder = self.folder.text()
         self.load_parameters()
+
+    def _folder_edited(self):
+        # editingFinished also fires when the field merely loses focus: only a change counts.
+        if self.folder.text() != self._folder:
+            self.set_folder(self.folder.text())
 
     def load_parameters(self):
         """Show the folder's parameters.txt; with none, the layout's values (not yet saved)."""
@@ -157,9 +169,20 @@ class McsTaskPanel:
                 return
         self.fill_from_layout()
 
+    def _layout(self):
+        """The document's layout now; an InputError when the document cannot be read (bad
+        settings, or closed)."""
+        try:
+            return read_layout(self.doc)
+        except InputError:
+            raise
+        except Exception as exc:  # the document was closed or its objects deleted
+            raise InputError("layout", None, f"the document cannot be read any more "
+                                             f"({type(exc).__name__}: {exc})") from None
+
     def fill_from_layout(self):
         try:
-            self._show_text(format_parameters(read_layout(self.doc)))
+            self._show_text(format_parameters(self._layout()))
         except InputError as exc:
             self._show_check(False, str(exc))
 
@@ -172,7 +195,7 @@ class McsTaskPanel:
         the line of an error; returns the error, or None when the text is valid."""
         source = str(self.folder_path() / PARAMETERS)
         try:
-            apply_parameters(read_layout(self.doc),
+            apply_parameters(self._layout(),
                              parse_parameters(self.editor.toPlainText(), source))
         except InputError as exc:
             self._show_check(False, str(exc), exc.line)
@@ -201,8 +224,13 @@ class McsTaskPanel:
         if not folder.is_dir():
             self._show_check(False, f"{folder}: no such folder")
             return False
-        self._shown = self._disk = self.editor.toPlainText()
-        atomic_write_text(folder / PARAMETERS, self._disk)
+        text = self.editor.toPlainText()
+        try:
+            atomic_write_text(folder / PARAMETERS, text)
+        except OSError as exc:
+            self._show_check(False, f"{folder / PARAMETERS}: cannot write: {exc.strerror or exc}")
+            return False
+        self._shown = self._disk = text
         App.Console.PrintMessage(f"WaferScan: wrote {folder / PARAMETERS}\n")
         self._show_check(True, f"saved to {folder / PARAMETERS}")
         return True
@@ -246,7 +274,7 @@ class McsTaskPanel:
             App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
         self.link = None
         # FreeCAD deletes the widgets of a panel it closed (the form itself may look alive).
-        if isValid(self.state):
+        if alive(self.state):
             self._show_state("not watching")
             self._buttons()
 
@@ -264,6 +292,9 @@ class McsTaskPanel:
     def poll(self):
         """Carry out what commands.txt holds that results.txt has not answered."""
         if self.link is None or self._polling:
+            return []
+        if not alive(self.state):  # the panel was closed without us: nobody sees the link
+            self.stop()
             return []
         self._polling = True
         try:
@@ -332,6 +363,10 @@ class McsTaskPanel:
     # FreeCAD's task-panel interface
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Close)
+
+    def is_open(self):
+        """Whether FreeCAD still shows this panel."""
+        return alive(self.state)
 
     def shut_down(self):
         self.stop()

@@ -66,7 +66,7 @@ class PreferencesPage:
         form = QtGui.QFormLayout(tolerances)
         self.half_thickness = QtGui.QCheckBox("half the nominal wafer thickness")
         self.half_thickness.setToolTip("A run thicker or thinner than nominal by more than this "
-                                       "is a double (code 3) or a thin wafer (code 5)")
+                                       "is a double (code 3) or a thin wafer (code 4)")
         self.thickness = length_input(0.35, "Thickness tolerance of a sensor run")
         self.half_thickness.toggled.connect(lambda on: self.thickness.setEnabled(not on))
         row = QtGui.QHBoxLayout()
@@ -74,8 +74,8 @@ class PreferencesPage:
         row.addWidget(self.half_thickness)
         form.addRow("Thickness tolerance", row)
         self.position = length_input(_DEFAULTS.position_tolerance,
-                                     "How far a run's middle may lie from the slot's wafer "
-                                     "middle and still count as that slot")
+                                     "How far a run's lower edge may lie from its slot's "
+                                     "seat before it is a position error (code 5)")
         form.addRow("Position tolerance", self.position)
         self.protrusion = length_input(_DEFAULTS.protrusion_limit,
                                        "How far a wafer may stick out of the carrier's front "
@@ -87,6 +87,7 @@ class PreferencesPage:
         self.folder.setToolTip("The folder of parameters.txt, commands.txt and results.txt "
                                "that the MCS link panel opens with")
         browse = QtGui.QPushButton("Browse…")
+        browse.setToolTip("Choose the MCS folder")
         browse.clicked.connect(self._browse)
         folder_row = QtGui.QHBoxLayout()
         folder_row.addWidget(self.folder)

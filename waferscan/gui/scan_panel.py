@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import FreeCADGui as Gui
 from PySide import QtGui
-from shiboken2 import isValid
 
 from ..addon import icon_path
 from .inputs import length_input, set_length
+from .qt import alive
 
 
 class ScanTaskPanel:
@@ -22,17 +22,18 @@ class ScanTaskPanel:
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("WaferScan scan")
         self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_RunScan.svg")))
+        steps = (f"exact edges, drawn at {animation.count} positions" if scan.exact
+                 else f"{scan.position_count} positions, step {scan.z_step:g} mm")
         about = QtGui.QLabel(
-            f"Carrier <b>{layout.carrier}</b>: {scan.position_count} positions, Z "
-            f"{scan.start_z:g} to {scan.final_z:g} mm, step {scan.z_step:g} mm, "
-            f"{scan.mode} mode")
+            f"Carrier <b>{layout.carrier}</b>: Z {scan.start_z:g} to {scan.final_z:g} mm, "
+            f"{steps}, {scan.mode} mode, direction {scan.direction}")
         about.setWordWrap(True)
         self.z = length_input(scan.start_z, "Scan position: the emitter's Z", -1e6, 1e6)
         self.z.setReadOnly(True)
         self.beam = QtGui.QLabel("beam clear")
         self.beam.setToolTip("What the beam is blocked by at this position")
         self.progress = QtGui.QProgressBar()
-        self.progress.setRange(0, scan.position_count - 1)
+        self.progress.setRange(0, animation.frames - 1)
         self.play_button = QtGui.QPushButton("Play")
         self.play_button.setToolTip("Play the scan, or go on after a pause")
         self.pause_button = QtGui.QPushButton("Pause")
@@ -44,7 +45,7 @@ class ScanTaskPanel:
         self.pause_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaPause))
         self.stop_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaStop))
         self.speed = QtGui.QSpinBox()
-        self.speed.setRange(1, max(1, scan.position_count))
+        self.speed.setRange(1, max(1, animation.frames))
         self.speed.setValue(animation.steps_per_frame)
         self.speed.setSuffix(" steps per frame")
         self.speed.setToolTip("Playback speed: scan positions advanced per frame")
@@ -81,7 +82,7 @@ class ScanTaskPanel:
         self._buttons()
 
     def _buttons(self):
-        if not isValid(self.status):  # FreeCAD closed the panel; the animation ran on
+        if not alive(self.status):  # FreeCAD closed the panel; the animation ran on
             return
         ended = self.animation._ended
         running = self.animation.running
@@ -90,7 +91,7 @@ class ScanTaskPanel:
         self.stop_button.setEnabled(not ended)
 
     def _moved(self, k, z):
-        if not isValid(self.status):
+        if not alive(self.status):
             return
         self._buttons()
         set_length(self.z, z)
@@ -101,7 +102,7 @@ class ScanTaskPanel:
 
     def _finished(self):
         animation = self.animation
-        if not isValid(self.status):
+        if not alive(self.status):
             return
         self._buttons()
         if animation.fault:
@@ -118,6 +119,10 @@ class ScanTaskPanel:
     # FreeCAD's task-panel interface
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Close)
+
+    def is_open(self):
+        """Whether FreeCAD still shows this panel."""
+        return alive(self.status)
 
     def shut_down(self):
         self.animation.stop()
