@@ -102,7 +102,10 @@ class _Lines:
                     continue
                 found = _key_path(line, stripped)
                 if found and line.startswith("=", found[1]):
-                    self.keys.setdefault((table, index, found[0][0]), number)
+                    parts = found[0]
+                    self.keys.setdefault((table, index, parts[0]), number)
+                    if len(parts) > 1 and table is None:  # scan.z_step = ... makes [scan]
+                        self.keys.setdefault((".".join(parts[:-1]), None, parts[-1]), number)
                     i = found[1] + 1
             pending, depth = self._skip_value(line, i, pending, depth)
 
