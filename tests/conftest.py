@@ -1,5 +1,6 @@
 """Shared test set-up: the tests folder on sys.path (for the random-layout generator) and the
-repository root; Hypothesis runs derandomised under CI, so that a CI run can be repeated."""
+repository root. Hypothesis runs derandomised, so that every run (CI's too) tries the same
+cases and can be repeated; HYPOTHESIS_PROFILE=explore draws new ones, to look for bugs."""
 
 import os
 import sys
@@ -9,7 +10,7 @@ from hypothesis import settings
 
 settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("explore", print_blob=True)
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci" if os.environ.get("CI") else "explore"))
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 TESTS = Path(__file__).resolve().parent
 ROOT = TESTS.parent

@@ -1,7 +1,7 @@
 """Run inside the FreeCAD GUI (``freecad this_file.py``): measure how many placement updates a
-second the 3D view takes while the robot's lift joint steps through the demo layout, the way an
-animation moves it (a QTimer that only sets placements, no recompute), and the longest stall
-between two updates. Writes a JSON result to $WAFERSCAN_BENCH_RESULT and quits."""
+second the 3D view takes while the GUI's scan animation (``ScanAnimation``: a QTimer that only
+sets placements, no recompute) steps the robot's lift joint through the demo layout, and the
+longest stall between two updates. Writes a JSON result to $WAFERSCAN_BENCH_RESULT and quits."""
 
 import json
 import os
@@ -16,37 +16,36 @@ SECONDS = float(os.environ.get("WAFERSCAN_BENCH_SECONDS", "3"))
 
 
 def main():
-    from waferscan.cad.reader import DocumentScene, read_layout
-    from waferscan.cad.robot import RobotMover
+    from waferscan.cad.document_scan import scan_document
+    from waferscan.gui.animation import ScanAnimation
 
     result = {"ok": False}
     try:
         doc = App.openDocument(os.environ["WAFERSCAN_BENCH_LAYOUT"])
         Gui.getDocument(doc.Name).ActiveView.viewIsometric()
         Gui.SendMsgToActiveView("ViewFit")
-        scene = DocumentScene.of(doc)
-        layout = read_layout(doc, scene)
-        mover = RobotMover(scene, layout)
-        scan = layout.scan
+        # The GUI's own animation (as Run scan plays it, 10 steps a frame), with a redraw
+        # forced at every frame so that each update counted is a frame drawn.
+        animation = ScanAnimation(doc, scan_document(doc, "analytic"), steps_per_frame=10)
         ticks = []
-        state = {"k": 0}
-        timer = QtCore.QTimer()
 
-        def tick():
-            mover.move_to(scan.position(state["k"] % scan.position_count))
-            state["k"] += 10  # playback: 10 steps a frame
-            Gui.updateGui()  # the view redraws now: each update is a frame drawn
+        def frame(k, z):
+            Gui.updateGui()
             ticks.append(time.perf_counter())
             if ticks[-1] - ticks[0] > SECONDS:
-                timer.stop()
-                gaps = [b - a for a, b in zip(ticks, ticks[1:])]
-                result.update(ok=True, updates=len(ticks), seconds=ticks[-1] - ticks[0],
-                              updates_per_second=(len(ticks) - 1) / (ticks[-1] - ticks[0]),
-                              max_stall=max(gaps))
-                finish(result)
+                animation.stop()
 
-        timer.timeout.connect(tick)
-        timer.start(0)
+        def ended():
+            gaps = [b - a for a, b in zip(ticks, ticks[1:])]
+            result.update(ok=len(ticks) > 1 and animation.fault is None, updates=len(ticks),
+                          seconds=ticks[-1] - ticks[0],
+                          updates_per_second=(len(ticks) - 1) / (ticks[-1] - ticks[0]),
+                          max_stall=max(gaps), fault=animation.fault)
+            finish(result)
+
+        animation.moved.connect(frame)
+        animation.finished.connect(ended)
+        animation.play()
     except Exception:
         result["error"] = traceback.format_exc()
         finish(result)
