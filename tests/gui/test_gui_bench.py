@@ -1,0 +1,20 @@
+"""The bench's GUI measure runs the GUI's own animation in a real FreeCAD GUI (its figures are
+the bench's business, not a test's: nothing here is timed)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+from waferscan import bench
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def test_the_gui_animation_measure_plays_the_scan_animation(tmp_path):
+    layout = tmp_path / "paper.FCStd"
+    subprocess.run([sys.executable, "-m", "waferscan.cli", "layout",
+                    str(REPO / "resources" / "examples" / "paper.toml"), "-o", str(layout)],
+                   check=True, cwd=REPO, capture_output=True, timeout=300)
+    result = bench.gui_animation(layout, seconds=0.5)
+    assert result["ok"] and result["fault"] is None
+    assert result["updates"] > 1 and result["max_stall"] > 0
