@@ -77,12 +77,10 @@ def begin():
     Gui.Selection.addSelection(bracket)
     Gui.runCommand("WaferScan_TagWafer")
     from waferscan.gui import commands
-    boxes = [m for m in commands._session["messages"] if m.isVisible()]
-    result["refusal"] = boxes[-1].text() if boxes else None
+    refusals = message_boxes()
+    result["refusal"] = refusals[-1] if refusals else None
     result["after_refusal"] = [role(wafers[0]), role(bracket)]
     result["undo_after_refusal"] = list(doc.UndoNames) == undo_before
-    for box in boxes:
-        box.close()
     # Tag for real, one undo step each.
     Gui.Selection.clearSelection()
     for wafer in wafers:
@@ -130,11 +128,13 @@ def scanned():
 
 
 def message_boxes():
+    """The texts of the message boxes shown, which are then closed."""
     from waferscan.gui import commands
-    texts = [m.text() for m in commands._session["messages"] if m.isVisible()]
-    for box in commands._session["messages"]:
-        if box.isVisible():
-            box.close()
+    from waferscan.gui.qt import alive
+    shown = [m for m in commands._session["messages"] if alive(m) and m.isVisible()]
+    texts = [box.text() for box in shown]
+    for box in shown:
+        box.close()
     return texts
 
 

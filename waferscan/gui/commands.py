@@ -16,6 +16,7 @@ from ..addon import icon_path
 from ..cad.disc import NotADisc
 from ..core.errors import InputError
 from . import preferences
+from .qt import alive
 
 # The last scan of each document (by its Name), the running animation, the open dialogs.
 _session = {"results": {}, "animation": None, "dialogs": [], "messages": []}
@@ -34,16 +35,8 @@ def report_error(message):
     box.setModal(False)
     box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()
-    _session["messages"] = [m for m in _session["messages"] if _alive(m)] + [box]
+    _session["messages"] = [m for m in _session["messages"] if alive(m)] + [box]
     return box
-
-
-def _alive(widget):
-    try:
-        widget.isVisible()
-        return True
-    except RuntimeError:  # deleted on close
-        return False
 
 
 def _ours_open():
