@@ -75,6 +75,18 @@ def test_scan_refuses_an_unreadable_layout(tmp_path):
                           f"file: {broken}\n"
 
 
+def test_scan_refuses_settings_typed_wrong_in_a_saved_layout(paper_layout, tmp_path):
+    bad = tmp_path / "bad.FCStd"
+    done = freecadcmd(f"import FreeCAD as App; doc = App.openDocument({str(paper_layout)!r}); "
+                      f"doc.getObjectsByLabel('ScanSettings')[0].FinalZ = 100.0; "
+                      f"doc.saveAs({str(bad)!r})")
+    assert bad.is_file(), done.stderr
+    done = waferscan("scan", bad, check=False)
+    assert done.returncode == 2
+    assert done.stderr == f"waferscan: error: {bad}: ScanSettings: final_z (100) is below " \
+                          f"start_z (280)\n"
+
+
 def freecadcmd(code):
     return subprocess.run(["freecadcmd", "-c", code], cwd=ROOT, capture_output=True, text=True,
                           timeout=300)
