@@ -72,8 +72,11 @@ def _scan_input(path, engine, parameters=None):
     progress = _Progress(f"scanning ({engine})")
     with opened_layout(path) as doc:
         try:
+            def check(layout):
+                _check_engine(layout, engine, path, parameters)
+
             return scan_document(doc, engine, progress=progress, parameters=parameters,
-                                 check=lambda layout: _check_engine(layout, engine, path, parameters))
+                                 check=check)
         finally:
             progress.close()
 

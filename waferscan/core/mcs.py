@@ -133,9 +133,10 @@ def apply_parameters(layout, parameters):
                                     f"less than the pitch {carrier.pitch:g}")
     try:
         schema.check_scan_range(scan.start_z, scan.final_z, scan.z_step)
-    except ValueError as exc:
-        order = ("z_step", "final_z", "start_z") \
-            if 0.0 <= scan.final_z - scan.start_z <= schema.MAX_TRAVEL else ("final_z", "start_z", "z_step")
+    except schema.ScanRangeError as exc:
+        # The key to blame if this file set it, else the other keys of the range it did set.
+        order = ("z_step", "final_z", "start_z") if exc.key == "z_step" \
+            else ("final_z", "start_z", "z_step")
         key = next((k for k in order if k in v), None)
         if key is None:
             raise InputError(parameters.source, None, str(exc)) from None

@@ -345,9 +345,8 @@ def _beam_and_scan(reader, data):
     scan = ScanParameters(**{k: v for k, v in values.items() if v is not None})
     try:
         schema.check_scan_range(scan.start_z, scan.final_z, scan.z_step)
-    except ValueError as exc:
-        key = "z_step" if 0.0 <= scan.final_z - scan.start_z <= schema.MAX_TRAVEL else "final_z"
-        raise reader.error(str(exc), "scan", key=key) from None
+    except schema.ScanRangeError as exc:
+        raise reader.error(str(exc), "scan", key=exc.key) from None
     beam = Beam(emitter=(emitter[0], emitter[1], start_z), direction=unit(direction),
                 length=length)
     return beam, scan

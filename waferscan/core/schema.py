@@ -115,12 +115,23 @@ MAPPING_KEYS = {
 }
 
 
+class ScanRangeError(ValueError):
+    """A scan range that makes no sensible scan; ``key`` is the value to blame: ``z_step`` when
+    the range is plausible and the step too fine for it, ``final_z`` otherwise."""
+
+    def __init__(self, message, key):
+        super().__init__(message)
+        self.key = key
+
+
 def check_scan_range(start_z, final_z, z_step):
-    """Raise ValueError unless the scan's range and step make a sensible scan."""
+    """Raise ScanRangeError unless the scan's range and step make a sensible scan."""
     if final_z < start_z:
-        raise ValueError(f"final_z ({final_z:g}) is below start_z ({start_z:g})")
+        raise ScanRangeError(f"final_z ({final_z:g}) is below start_z ({start_z:g})", "final_z")
     if z_step > 0.0 and not (final_z - start_z) / z_step + 1 <= MAX_POSITIONS:
         positions = (final_z - start_z) / z_step + 1
         positions = f"{positions:,.0f}" if math.isfinite(positions) else "too many"
-        raise ValueError(f"z_step {z_step:g} over {final_z - start_z:g} mm makes {positions} "
-                         f"positions; at most {MAX_POSITIONS:,} (use z_step = 0 for exact edges)")
+        raise ScanRangeError(
+            f"z_step {z_step:g} over {final_z - start_z:g} mm makes {positions} positions; at "
+            f"most {MAX_POSITIONS:,} (use z_step = 0 for exact edges)",
+            "z_step" if final_z - start_z <= MAX_TRAVEL else "final_z")
