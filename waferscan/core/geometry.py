@@ -52,20 +52,27 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     pq = px * qx + py * qy + pz * qz
     r = wafer.radius + tol
     c = px * px + py * py + pz * pz - r * r
+    span = _rim_span(qq, pq, c)
+    if span is None:
+        return False
+    return max(lo, span[0]) <= min(hi, span[1])
+
+
+def _rim_span(qq, pq, c):
+    """Where along the beam's line (lam) it is within the wafer's rim, the inflated cylinder:
+    (low, high), infinite for a line along the axis inside it; None when never. With p and q the
+    emitter's offset and the beam's direction projected on the wafer's plane: qq = q.q,
+    pq = p.q, c = p.p - r^2."""
     if qq == 0.0:
-        if c > 0.0:
-            return False
-    else:
-        disc = pq * pq - qq * c
-        if disc < 0.0:
-            return False
-        # The root pair without cancellation: q/qq and c/q.
-        s = -pq - math.copysign(math.sqrt(disc), pq)
-        r1 = s / qq
-        r2 = c / s if s != 0.0 else 0.0
-        lo = max(lo, min(r1, r2))
-        hi = min(hi, max(r1, r2))
-    return lo <= hi
+        return None if c > 0.0 else (-math.inf, math.inf)
+    disc = pq * pq - qq * c
+    if disc < 0.0:
+        return None
+    # The root pair without cancellation: q/qq and c/q.
+    s = -pq - math.copysign(math.sqrt(disc), pq)
+    r1 = s / qq
+    r2 = c / s if s != 0.0 else 0.0
+    return (min(r1, r2), max(r1, r2))
 
 
 def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness,
@@ -259,17 +266,9 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     if en == 0.0 and an != 0.0 and g == (0.0, 0.0, 0.0):
         # The common case: a level wafer, the beam parallel to its faces, the lift along its
         # axis. The region is a rectangle: the faces bound tau, the rim bounds lam alone.
-        qq, pq, c = _dot(q, q), _dot(p, q), _dot(p, p) - r2
-        if qq == 0.0:
-            if c > 0.0:
-                return None
-        else:
-            disc = pq * pq - qq * c
-            if disc < 0.0:
-                return None
-            root = math.sqrt(disc)
-            if (-pq + root) / qq < -tol or (-pq - root) / qq > beam.length + tol:
-                return None
+        span = _rim_span(_dot(q, q), _dot(p, q), _dot(p, p) - r2)
+        if span is None or span[1] < -tol or span[0] > beam.length + tol:
+            return None
         low, high = (-tol - wn) / an, (t + tol - wn) / an
         return (min(low, high), max(low, high))
 
