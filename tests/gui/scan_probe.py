@@ -30,7 +30,7 @@ def begin():
     result["frames"] = 0
     panel.animation.moved.connect(lambda k, z: result.__setitem__("frames", result["frames"] + 1))
     # Pause on the cross-slotted wafer of slot 5, as the README's screenshot shows.
-    wait_for("the beam blocked by LP1_W04", lambda: "LP1_W04" in panel.animation._lit,
+    wait_for("the beam blocked by LP1_W04", lambda: "LP1_W04" in panel.animation.lit,
              paused_on_a_wafer)
 
 
@@ -44,7 +44,7 @@ def paused_on_a_wafer():
     result["paused_position_field"] = panel.z.property("value").getValueAs("mm").Value
     result["paused_buttons"] = [panel.play_button.isEnabled(), panel.pause_button.isEnabled(),
                                 panel.stop_button.isEnabled()]
-    lit = panel.animation._lit
+    lit = panel.animation.lit
     wafer = App.ActiveDocument.getObjectsByLabel(lit[0])[0]
     result["highlight"] = list(wafer.ViewObject.ShapeColor[:3])
     result["beam_colour"] = list(panel.animation.beam.ViewObject.LineColor[:3])
@@ -62,7 +62,7 @@ def resume():
     result["frames_while_paused"] = result["frames"]
     panel.speed.setValue(60)
     panel.play_button.click()
-    wait_for("the animation's end", lambda: panel.animation._ended, after_animation)
+    wait_for("the animation's end", lambda: panel.animation.ended, after_animation)
 
 
 def after_animation():
@@ -126,7 +126,7 @@ def delete_a_link():
     result["deleted"] = fork.Name
     doc.removeObject(fork.Name)
     animation = state["fault_animation"]
-    wait_for("the animation to end on the fault", lambda: animation._ended, after_fault)
+    wait_for("the animation to end on the fault", lambda: animation.ended, after_fault)
 
 
 def after_fault():

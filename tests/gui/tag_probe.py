@@ -110,7 +110,7 @@ def begin():
     state["doc"] = doc
     panel = commands._session["panel"]
     result["speed_from_preferences"] = panel.speed.value()
-    wait_for("the animation's end", lambda: panel.animation._ended, scanned)
+    wait_for("the animation's end", lambda: panel.animation.ended, scanned)
 
 
 def scanned():
@@ -168,7 +168,7 @@ def edits(doc, settings):
     panel.animation.moved.connect(
         lambda k, z: result["exact_first_z"] is None and result.__setitem__("exact_first_z", z))
     state["exact"] = panel
-    wait_for("the exact animation's end", lambda: panel.animation._ended,
+    wait_for("the exact animation's end", lambda: panel.animation.ended,
              lambda: after_exact(doc))
 
 

@@ -27,6 +27,7 @@ class ScanAnimation(QtCore.QObject):
 
     ``moved(frame, z)`` is emitted at every frame; ``finished`` when the animation ends, at the
     last frame (``completed`` is then True), by ``stop()``, or by a fault (``fault`` says which).
+    ``ended`` says whether it has; ``lit`` names the wafers the beam meets now.
     """
 
     moved = QtCore.Signal(int, float)
@@ -66,8 +67,8 @@ class ScanAnimation(QtCore.QObject):
         self.bar.setMaximumWidth(220)
         self.bar.setFormat("scanning %p %")
         Gui.getMainWindow().statusBar().addPermanentWidget(self.bar)
-        self._ended = False
-        self._lit = ()
+        self.ended = False
+        self.lit = ()
         # While it runs, the carriers are see-through and the beam drawn thick: the beam lies
         # inside the carrier, behind its walls.
         self._restore_view = []
@@ -96,7 +97,7 @@ class ScanAnimation(QtCore.QObject):
 
     def play(self):
         """Start, or go on after a pause (an animation that ended stays ended)."""
-        if not self._ended:
+        if not self.ended:
             self.timer.start(0)
 
     def pause(self):
@@ -111,9 +112,9 @@ class ScanAnimation(QtCore.QObject):
         return self.timer.isActive()
 
     def _end(self, completed=False, fault=None):
-        if self._ended:
+        if self.ended:
             return
-        self._ended = True
+        self.ended = True
         self.timer.stop()
         self.completed, self.fault = completed, fault
         # Each put back on its own: one that fails (its object deleted) leaves the others.
@@ -137,15 +138,15 @@ class ScanAnimation(QtCore.QObject):
             self.beam.ViewObject.LineColor = colour
 
     def _light(self, names):
-        if names == self._lit:
+        if names == self.lit:
             return
-        for name in self._lit:
+        for name in self.lit:
             if name in self.wafers and name in self.colours:
                 self.wafers[name].ViewObject.ShapeColor = self.colours[name]
         for name in names:
             if name in self.wafers and self.wafers[name].ViewObject:
                 self.wafers[name].ViewObject.ShapeColor = WAFER_HIT
-        self._lit = names
+        self.lit = names
 
     def _tick(self):
         last = self.frames - 1

@@ -145,7 +145,8 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
     speed = preferences.steps_per_frame() if steps_per_frame is None else steps_per_frame
     animation = ScanAnimation(doc, result, speed)
     _session["animation"] = animation
-    on_completed = (lambda: show_results_dialogs(doc)) if show_results else None
+    # The animation showed this result: its dialogs show it too.
+    on_completed = (lambda: show_results_dialogs(doc, result=result)) if show_results else None
     if panel:
         _show_task_panel(ScanTaskPanel(animation, on_completed))
     elif on_completed is not None:
@@ -163,11 +164,13 @@ def results_for(doc):
     return scan_document(doc, "analytic")
 
 
-def show_results_dialogs(doc=None, which=("table", "code")):
+def show_results_dialogs(doc=None, which=("table", "code"), result=None):
+    """The results table and/or the slot-code dialog of ``result``, by default of the document
+    as it is now."""
     from .results_view import ResultsTable, SlotCodeDialog
 
     doc = doc or App.ActiveDocument
-    result = results_for(doc)
+    result = result or results_for(doc)
     dialogs = []
     if "table" in which:
         dialogs.append(ResultsTable(result, doc))

@@ -13,7 +13,6 @@ def length_input(value_mm, tooltip="", minimum=0.0, maximum=1e6):
     box.setProperty("unit", "mm")
     box.setProperty("minimum", minimum)
     box.setProperty("maximum", maximum)
-    box.setProperty("decimals", 4)  # micrometres and below: the tool's numbers are that fine
     set_length(box, value_mm)
     if tooltip:
         box.setToolTip(tooltip)

@@ -10,7 +10,6 @@ import datetime as _dt
 from pathlib import Path
 
 import FreeCAD as App
-import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..addon import icon_path
@@ -21,7 +20,7 @@ from ..core.mcs import (COMMANDS, PARAMETERS, apply_parameters, atomic_write_tex
                         format_parameters, parse_parameters)
 from ..core.mcs_link import McsLink, ScanStopped
 from . import preferences
-from .qt import alive
+from .qt import ClosableTaskPanel
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
 
@@ -42,7 +41,7 @@ def _guarded(doc, scan):
     return guarded
 
 
-class McsTaskPanel:
+class McsTaskPanel(ClosableTaskPanel):
     """Folder, parameters, start/stop watching, and the log of the commands carried out."""
 
     def __init__(self, doc, folder=None):
@@ -104,6 +103,7 @@ class McsTaskPanel:
         self.start_button.clicked.connect(lambda: self.start())
         self.stop_button.clicked.connect(self.stop)
         self.state = QtGui.QLabel("not watching")
+        self.leaf = self.state
         self.state.setWordWrap(True)
         self.log = QtGui.QTableWidget(0, len(LOG_COLUMNS))
         self.log.setHorizontalHeaderLabels(list(LOG_COLUMNS))
@@ -274,7 +274,7 @@ class McsTaskPanel:
             App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
         self.link = None
         # FreeCAD deletes the widgets of a panel it closed (the form itself may look alive).
-        if alive(self.state):
+        if self.is_open():
             self._show_state("not watching")
             self._buttons()
 
@@ -293,7 +293,7 @@ class McsTaskPanel:
         """Carry out what commands.txt holds that results.txt has not answered."""
         if self.link is None or self._polling:
             return []
-        if not alive(self.state):  # the panel was closed without us: nobody sees the link
+        if not self.is_open():  # the panel was closed without us: nobody sees the link
             self.stop()
             return []
         self._polling = True
@@ -360,21 +360,5 @@ class McsTaskPanel:
         self.start_button.setEnabled(self.link is None)
         self.stop_button.setEnabled(self.link is not None)
 
-    # FreeCAD's task-panel interface
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Close)
-
-    def is_open(self):
-        """Whether FreeCAD still shows this panel."""
-        return alive(self.state)
-
     def shut_down(self):
         self.stop()
-
-    def reject(self):
-        self.shut_down()
-        Gui.Control.closeDialog()
-        return True
-
-    def accept(self):
-        return self.reject()

@@ -38,11 +38,12 @@ def store_in_document(doc, result):
     sheet.clearAll()
     for column, title in enumerate(COLUMNS):
         sheet.set(f"{chr(65 + column)}1", title)
-    for row, (cells, _) in enumerate(table_cells(result), start=2):
+    rows = table_cells(result)
+    for row, (cells, _) in enumerate(rows, start=2):
         for column, text in enumerate(cells):
             if text:
                 sheet.set(f"{chr(65 + column)}{row}", f"'{text}" if column in (2, 6) else text)
-    last = len(table_cells(result)) + 3
+    last = len(rows) + 3
     sheet.set(f"A{last}", "Code")
     sheet.set(f"B{last}", f"'{result.code}")
     sheet.setAlias(f"B{last}", "code")

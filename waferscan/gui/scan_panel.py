@@ -3,15 +3,14 @@ speed, the scan position and what the beam sees, and the progress."""
 
 from __future__ import annotations
 
-import FreeCADGui as Gui
 from PySide import QtGui
 
 from ..addon import icon_path
 from .inputs import length_input, set_length
-from .qt import alive
+from .qt import ClosableTaskPanel
 
 
-class ScanTaskPanel:
+class ScanTaskPanel(ClosableTaskPanel):
     """Controls for a ``ScanAnimation``; closing the panel stops the animation."""
 
     def __init__(self, animation, on_completed=None):
@@ -50,6 +49,7 @@ class ScanTaskPanel:
         self.speed.setSuffix(" steps per frame")
         self.speed.setToolTip("Playback speed: scan positions advanced per frame")
         self.status = QtGui.QLabel("")
+        self.leaf = self.status
         self.status.setWordWrap(True)
         buttons = QtGui.QHBoxLayout()
         for button in (self.play_button, self.pause_button, self.stop_button):
@@ -82,27 +82,27 @@ class ScanTaskPanel:
         self._buttons()
 
     def _buttons(self):
-        if not alive(self.status):  # FreeCAD closed the panel; the animation ran on
+        if not self.is_open():  # FreeCAD closed the panel; the animation ran on
             return
-        ended = self.animation._ended
+        ended = self.animation.ended
         running = self.animation.running
         self.play_button.setEnabled(not ended and not running)
         self.pause_button.setEnabled(running)
         self.stop_button.setEnabled(not ended)
 
     def _moved(self, k, z):
-        if not alive(self.status):
+        if not self.is_open():
             return
         self._buttons()
         set_length(self.z, z)
         self.progress.setValue(k)
-        lit = self.animation._lit
+        lit = self.animation.lit
         self.beam.setText(f"blocked by {', '.join(lit)}" if lit else "beam clear")
         self.beam.setStyleSheet("color: #c01010; font-weight: bold;" if lit else "")
 
     def _finished(self):
         animation = self.animation
-        if not alive(self.status):
+        if not self.is_open():
             return
         self._buttons()
         if animation.fault:
@@ -116,21 +116,5 @@ class ScanTaskPanel:
             self.status.setText(f"Stopped at Z {animation.z:.3f} mm; the results of the whole "
                                 "scan are in the results table")
 
-    # FreeCAD's task-panel interface
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Close)
-
-    def is_open(self):
-        """Whether FreeCAD still shows this panel."""
-        return alive(self.status)
-
     def shut_down(self):
         self.animation.stop()
-
-    def reject(self):
-        self.shut_down()
-        Gui.Control.closeDialog()
-        return True
-
-    def accept(self):
-        return self.reject()
