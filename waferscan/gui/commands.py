@@ -112,11 +112,9 @@ def ensure_settings(doc):
 def scan(doc):
     """The headless scan of the document; its results kept in it as a Spreadsheet (one undo
     step) and for the results commands."""
-    from ..cad.document_scan import scan_document
     from .results_view import store_in_document
 
-    ensure_settings(doc)
-    result = scan_document(doc, "analytic")
+    result = results_for(doc)
     _session["results"][doc.Name] = result
     doc.openTransaction("WaferScan results")
     try:
@@ -157,7 +155,7 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
 
 def results_for(doc):
     """The document's results as it is now: scanned afresh (a millisecond), so that a wafer
-    moved or deleted since the last Run scan is seen. The spreadsheet keeps Run scan's."""
+    moved or deleted since the last Run scan is seen. Only Run scan stores them."""
     from ..cad.document_scan import scan_document
 
     ensure_settings(doc)
