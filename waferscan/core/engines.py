@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .geometry import (accessible, beam_hits_wafer, beam_hits_wafers, paper_beam_hits_wafer,
-                       translation_range, wafer_columns)
+from .geometry import (TOUCH_TOLERANCE, accessible, beam_hits_wafer, beam_hits_wafers,
+                       paper_beam_hits_wafer, translation_range, wafer_columns)
 
 
 @dataclass(frozen=True)
@@ -138,15 +138,28 @@ def vector_engine(layout, progress=None, chunk_elements=2_000_000):
     return StepHits(count, tuple(steps), runs_from_blocked(blocked))
 
 
-def wafer_edges(layout, wafer):
+def wafer_edges(layout, wafer, tol=TOUCH_TOLERANCE):
     """Exact first and last scan position z at which the beam meets the wafer (unclipped), or
-    None. The set of such z is an interval: the wafer and the beam are convex."""
+    None. The set of such z is an interval: the wafer and the beam are convex. ``tol`` (mm)
+    grows the wafer as the touching tolerance does; 0 gives the geometric edges."""
     ax, ay, az = layout.lift_axis
-    span = translation_range(layout.beam.emitter, layout.beam, layout.lift_axis, wafer)
+    span = translation_range(layout.beam.emitter, layout.beam, layout.lift_axis, wafer, tol)
     if span is None:
         return None
     z0 = layout.beam.emitter[2]
     return (z0 + span[0] * az, z0 + span[1] * az)
+
+
+def geometric_edges(layout, wafer, touching):
+    """The edges to report for a wafer the beam meets (``touching``: its edges with the touching
+    tolerance): the solid's own, so that the tolerance does not leak into reported positions
+    (an edge at 300.0 is 300.0, not 299.999999999). A beam that only grazes the wafer, where the
+    geometric range is lost to rounding, touches it at the middle of the touching range."""
+    exact = wafer_edges(layout, wafer, tol=0.0)
+    if exact is None:
+        middle = 0.5 * (touching[0] + touching[1])
+        return (middle, middle)
+    return exact
 
 
 def _snap_to_grid(layout, wafer, edges):
@@ -189,6 +202,8 @@ def analytic_engine(layout, progress=None):
     edges = [wafer_edges(layout, w) if i in reachable else None
              for i, w in enumerate(layout.wafers)]
     if scan.exact:
+        edges = [None if e is None else geometric_edges(layout, w, e)
+                 for w, e in zip(layout.wafers, edges)]
         clipped = []
         for e in edges:
             if e is None or e[1] < scan.start_z or e[0] > scan.final_z:

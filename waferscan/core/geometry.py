@@ -135,7 +135,8 @@ def paper_beam_hits_wafer(emitter, beam, wafer):
     """The paper's test (eqs. 1-5): where the beam line meets the wafer's mid-plane, is it
     closer than R to the centre? For a beam parallel to the wafer (e.n = 0), equation 2 would
     divide by zero: then s = (r_c - r0).e and the emitter must lie within the thickness band.
-    Thickness is otherwise ignored, as in the paper."""
+    Thickness is otherwise ignored, as in the paper. The band has the touching tolerance of the
+    exact test, so that a face exactly on a step counts the same at the top as at the bottom."""
     rc = wafer.mid_center
     n = wafer.normal
     e = beam.direction
@@ -143,7 +144,7 @@ def paper_beam_hits_wafer(emitter, beam, wafer):
     en = sum(a * b for a, b in zip(e, n))
     if abs(en) < 1e-12:
         height = sum((o - c) * k for o, c, k in zip(emitter, wafer.center, n))
-        if not 0.0 <= height <= wafer.thickness:
+        if not -TOUCH_TOLERANCE <= height <= wafer.thickness + TOUCH_TOLERANCE:
             return False
         s = sum(a * b for a, b in zip(r0c, e))  # eq. 3
     else:

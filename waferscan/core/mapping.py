@@ -11,6 +11,9 @@ import math
 from dataclasses import dataclass
 
 EMPTY, PRESENT, CROSS, DOUBLE, THIN, POSITION_ERROR, PROTRUDING = 0, 1, 2, 3, 4, 5, 6
+# A slot whose window the scan did not wholly cover (SPEC §3, §4): its state is not known, and
+# its code character is "?" itself, so that ``str(state)`` spells the slot code for every state.
+UNSCANNED = "?"
 
 STATE_NAMES = {
     EMPTY: "empty",
@@ -20,11 +23,13 @@ STATE_NAMES = {
     THIN: "thin",
     POSITION_ERROR: "position error",
     PROTRUDING: "protruding",
+    UNSCANNED: "unscanned",
 }
 
 # SEMI E87 SlotMap: 1 empty, 3 correctly occupied, 4 double slotted, 5 cross slotted,
-# 2 not empty for the other abnormal states (0, undefined, is never produced).
-E87 = {EMPTY: 1, PRESENT: 3, CROSS: 5, DOUBLE: 4, THIN: 2, POSITION_ERROR: 2, PROTRUDING: 2}
+# 2 not empty for the other abnormal states, 0 undefined for a slot the scan did not cover.
+E87 = {EMPTY: 1, PRESENT: 3, CROSS: 5, DOUBLE: 4, THIN: 2, POSITION_ERROR: 2, PROTRUDING: 2,
+       UNSCANNED: 0}
 
 # When several findings land on one slot the worst one is reported.
 _SEVERITY = (EMPTY, PRESENT, THIN, POSITION_ERROR, DOUBLE, CROSS, PROTRUDING)
@@ -48,6 +53,16 @@ class SlotPlan:
 
     def seat_z(self, slot):
         return self.first_slot_z + (slot - 1) * self.pitch
+
+    def window(self, slot):
+        """The Z range (mm) a scan must cover to judge the slot: half a pitch either side of
+        its seat (the windows tile the carrier)."""
+        seat = self.seat_z(slot)
+        return (seat - 0.5 * self.pitch, seat + 0.5 * self.pitch)
+
+    def nearest_slot(self, z):
+        """The slot whose seat is nearest to z, kept within 1..slot_count."""
+        return min(self.slot_count, max(1, _nearest_slot(self, z)))
 
 
 @dataclass(frozen=True)
@@ -101,9 +116,21 @@ def judge_run(plan, bottom, top):
     return [(slot, state) for slot, state in found if 1 <= slot <= plan.slot_count]
 
 
-def map_slots(plan, runs, protruding_slots=()):
+def unscanned_slots(plan, scanned):
+    """The slots whose window is not wholly inside ``scanned`` (low, high scan Z, mm; None: the
+    scan covered nothing)."""
+    if scanned is None:
+        return list(range(1, plan.slot_count + 1))
+    low, high = scanned
+    return [slot for slot in range(1, plan.slot_count + 1)
+            if plan.window(slot)[0] < low - LIMIT_SLACK or plan.window(slot)[1] > high + LIMIT_SLACK]
+
+
+def map_slots(plan, runs, protruding_slots=(), unscanned=()):
     """Slot states from sensor runs given as (bottom, top) pairs; ``protruding_slots`` are the
-    slots a protrusion check flagged (state 6)."""
+    slots a protrusion check flagged (state 6); ``unscanned`` the slots whose window the scan did
+    not wholly cover: whatever their runs say is not known, so they are ``?`` (SPEC §3). The
+    load port's protrusion check does not depend on the scan: 6 outranks ``?`` too."""
     states = {slot: EMPTY for slot in range(1, plan.slot_count + 1)}
     members = {slot: [] for slot in states}
     for index, (bottom, top) in enumerate(runs):
@@ -118,6 +145,9 @@ def map_slots(plan, runs, protruding_slots=()):
         for slot in two_runs_in_one_slot:
             if _SEVERITY.index(POSITION_ERROR) > _SEVERITY.index(states[slot]):
                 states[slot] = POSITION_ERROR
+    for slot in unscanned:
+        if slot in states:
+            states[slot] = UNSCANNED
     for slot in protruding_slots:
         if slot in states:
             states[slot] = PROTRUDING

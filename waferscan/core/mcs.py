@@ -228,6 +228,9 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
               ("e87", result.e87 if result and not error else ""),
               ("timestamp", timestamp)]
     if result is not None and not error:
+        # One line each: why part of the result cannot be known (SPEC §3).
+        header += [("warning", " ".join(w.split())) for w in result.warnings]
+    if result is not None and not error:
         header.append(("engine", result.engine))
         header += [(k, _text(v)) for k, v in used_parameters(result.layout).items()]
     lines = [f"{k} = {v}".rstrip() for k, v in header]

@@ -112,8 +112,11 @@ class ScanParameters:
 
     @property
     def last_step(self):
-        """k of the last stepped position (SPEC §3): floor((final - start)/step + 1e-9)."""
-        return int(math.floor((self.final_z - self.start_z) / self.z_step + GRID_EPSILON))
+        """k of the last stepped position (SPEC §3): floor(x + 1e-9 max(1, x)), x = (final -
+        start)/step. The tolerance is relative: at 10^7 steps and more a final_z on the grid is
+        rounded a few 1e-9 steps below its k, and must stay in."""
+        x = (self.final_z - self.start_z) / self.z_step
+        return int(math.floor(x + GRID_EPSILON * max(1.0, x)))
 
     @property
     def position_count(self):

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from .mapping import STATE_NAMES
+from .mapping import STATE_NAMES, UNSCANNED
 from .mcs import used_parameters
 
 # The paper's Table 1: slot -> (wafer #, IN, OUT, diff) in mm; slots not listed were empty.
@@ -18,11 +18,13 @@ PAPER_CODE = "1101221001220001010000010"
 # Colours of the slot states (code -> RGB) wherever results are drawn: the GUI's table, strip
 # and side view.
 STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (240, 170, 60),
-                 4: (120, 170, 230), 5: (200, 120, 220), 6: (250, 220, 70)}
+                 4: (120, 170, 230), 5: (200, 120, 220), 6: (250, 220, 70),
+                 UNSCANNED: (160, 160, 160)}
 
 
 def result_dict(result):
-    """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine."""
+    """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine, warnings.
+    A slot's ``state`` is its code character's value: 0-6, or "?" when unscanned."""
     return {
         "code": result.code,
         "e87": result.e87,
@@ -36,6 +38,7 @@ def result_dict(result):
                    for w in result.wafers],
         "protrusions": [{"name": name, "mm": amount} for name, amount in result.protrusions],
         "params": used_parameters(result.layout),
+        "warnings": list(result.warnings),
     }
 
 

@@ -14,9 +14,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .engines import ExactHits, run_engine
+from .engines import ExactHits, reachable_wafers, run_engine
 from .geometry import wafer_bounds
-from .mapping import STATE_NAMES, SlotPlan, map_slots
+from .mapping import LIMIT_SLACK, STATE_NAMES, SlotPlan, map_slots, unscanned_slots
 from .model import DOWN, SLOW, UP, UPDOWN
 
 
@@ -29,6 +29,9 @@ class SensorRun:
     z_in: float
     z_out: float
     wafers: tuple = ()
+    # (bottom, top): the scan positions of its first and last blocked step before latching, in
+    # ascending Z (what the geometry says; IN and OUT trail them by the latch lag).
+    unlatched: tuple | None = None
 
     @property
     def diff(self):
@@ -65,6 +68,7 @@ class ScanResult:
     wafers: tuple
     slot_map: object
     protrusions: tuple  # (wafer name, protrusion in mm) for the scanned carrier's wafers
+    warnings: tuple = ()  # why some of what is reported cannot be known (SPEC §3), as sentences
 
     @property
     def code(self):
@@ -179,7 +183,10 @@ def _carrier_wafers(carrier, wafers):
 
 def protruding_slots(carrier, plan, wafers):
     """Slots holding a wafer that sticks out beyond the protrusion limit, and every such wafer's
-    protrusion. Models a load port's protrusion sensor across the carrier's opening."""
+    protrusion. Models a load port's protrusion sensor across the carrier's opening: it sees the
+    front edge alone, so a wafer is flagged however it is seated (SPEC §4). The slot it occupies
+    is the one whose seat is nearest its bottom edge, and every slot whose seat its Z extent
+    spans (a tilted, cross-slotted wafer occupies both of its slots)."""
     slots = set()
     found = []
     for wafer in _carrier_wafers(carrier, wafers):
@@ -187,11 +194,57 @@ def protruding_slots(carrier, plan, wafers):
         found.append((wafer.name, amount))
         if amount > plan.protrusion_limit:
             (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
+            slots.add(plan.nearest_slot(z0))
             for slot in range(1, plan.slot_count + 1):
-                seat = plan.seat_z(slot)
-                if z0 - plan.position_tolerance <= seat <= z1:
+                if z0 <= plan.seat_z(slot) <= z1:
                     slots.add(slot)
     return sorted(slots), tuple(found)
+
+
+def scanned_range(scan, window=None):
+    """(low, high) scan Z (mm) the beam was read over: the stepped positions from start_z to the
+    last one on the grid (z_step = 0: start_z to final_z), within ``window`` when the scan keeps
+    to one (slow mode); None when no position lies in it."""
+    if scan.exact:
+        low, high = scan.start_z, scan.final_z
+        if window is not None:
+            low, high = max(low, window[0]), min(high, window[1])
+        return (low, high) if low <= high else None
+    k_lo, k_hi = 0, scan.last_step
+    if window is not None:
+        k_lo = max(k_lo, math.ceil((window[0] - scan.start_z) / scan.z_step))
+        k_hi = min(k_hi, math.floor((window[1] - scan.start_z) / scan.z_step))
+    return (scan.position(k_lo), scan.position(k_hi)) if k_lo <= k_hi else None
+
+
+def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
+    """Why parts of a scan's result cannot be known (SPEC §3 "Honest results"), one sentence
+    each: a step coarser than half the thinnest wafer, slots whose window the scan did not
+    wholly cover (``scanned`` the range of the stroke), runs cut off by an end of the range the
+    beam was read over (``visited``: in slow mode, within the carrier's pockets)."""
+    scan = layout.scan
+    warnings = []
+    if not scan.exact:
+        reachable = reachable_wafers(layout)
+        thinnest = min([plan.wafer_thickness] + [layout.wafers[i].thickness for i in reachable])
+        if scan.z_step > 0.5 * thinnest + LIMIT_SLACK:
+            warnings.append(f"z_step {scan.z_step:g} mm is coarser than half the thinnest wafer "
+                            f"({thinnest:g} mm): a wafer can be missed, or measured thin, thick "
+                            f"or off its seat")
+    if unscanned:
+        where = "nothing" if scanned is None else f"{scanned[0]:.3f} to {scanned[1]:.3f} mm"
+        slots = ", ".join(str(s) for s in unscanned)
+        warnings.append(f"slot{'s' if len(unscanned) > 1 else ''} {slots} of {plan.slot_count} "
+                        f"not wholly inside the scanned range ({where}): reported unscanned (?)")
+    if visited is not None:
+        for bottom, top in run_spans:
+            ends = [name for name, cut in (("start", bottom <= visited[0] + LIMIT_SLACK),
+                                           ("end", top >= visited[1] - LIMIT_SLACK)) if cut]
+            if ends:
+                warnings.append(f"the sensor run from {bottom:.3f} to {top:.3f} mm is cut off by "
+                                f"the {' and the '.join(ends)} of the scanned range: its length "
+                                f"and position are not known")
+    return tuple(warnings)
 
 
 def scan_layout(layout, engine="analytic", progress=None, stepper=None):
@@ -212,9 +265,13 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None):
     for bottom, top in run_spans:
         names = tuple(w.name for w, span in zip(layout.wafers, wafer_spans)
                       if span is not None and span[0] <= top and span[1] >= bottom)
-        runs.append(SensorRun(*latch(bottom, top, scan), wafers=names))
+        runs.append(SensorRun(*latch(bottom, top, scan), wafers=names, unlatched=(bottom, top)))
     wafers = tuple(WaferInterval(w.name, *(span if span is not None else (None, None)))
                    for w, span in zip(layout.wafers, wafer_spans))
     flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
-    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged)
-    return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions)
+    scanned = scanned_range(scan)
+    unscanned = unscanned_slots(plan, scanned)
+    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
+                             scanned_range(scan, window))
+    return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings)

@@ -1,0 +1,231 @@
+"""Honest results (SPEC §3, §4, issue 9): every state reported is true, or a warning says why it
+cannot be known. Layouts are built from scenario text; the expected figures come from the
+layout's own geometry (seats, steps, thicknesses), not from a run of the code."""
+
+import pytest
+
+from waferscan.core.engines import ENGINES
+from waferscan.core.geometry import beam_hits_wafer, paper_beam_hits_wafer
+from waferscan.core.mapping import E87, UNSCANNED, SlotPlan, map_slots
+from waferscan.core.mcs import format_results
+from waferscan.core.model import Beam, ScanParameters, Wafer
+from waferscan.core.report import result_dict
+from waferscan.core.scan import scan_layout
+from waferscan.core.scenario import parse_scenario
+
+SEAT1 = 100.0
+PITCH = 10.0
+
+
+def scenario(load="1111111111", start=90.0, final=200.0, step=0.05, thickness=0.7, extra=""):
+    return parse_scenario(f"""
+[scan]
+start_z = {start!r}
+final_z = {final!r}
+z_step = {step!r}
+[sensor]
+emitter = [-80.0, 266.6, {start!r}]
+direction = [1.0, 0.0, 0.0]
+length = 160.0
+[[carrier]]
+name = "A"
+slots = 10
+pitch = {PITCH!r}
+first_slot_z = {SEAT1!r}
+center = [0.0, 400.0]
+wafer_diameter = 300.0
+wafer_thickness = {thickness!r}
+load = "{load}"
+{extra}
+""")
+
+
+def seat(slot):
+    return SEAT1 + (slot - 1) * PITCH
+
+
+# --- 1. Protrusion: judged on the front edge alone, 6 outranks everything --------------------
+
+def free_wafer(name, y, z, thickness=0.7):
+    return f"""
+[[wafer]]
+name = "{name}"
+center = [0.0, {y!r}, {z!r}]
+normal = [0.0, 0.0, 1.0]
+diameter = 300.0
+thickness = {thickness!r}
+"""
+
+
+@pytest.mark.parametrize("rise", [1.0, -0.8, 3.0, 4.9])
+def test_a_protruding_wafer_off_its_seat_is_6_in_the_slot_nearest_its_bottom(rise):
+    # 4 mm out of the opening (the carrier's front is -Y), seated `rise` mm off slot 4's seat.
+    layout = scenario(load="1110111111", extra=free_wafer("P", 396.0, seat(4) + rise))
+    result = scan_layout(layout)
+    assert dict(result.protrusions)["P"] == pytest.approx(4.0, abs=1e-9)
+    assert result.code == "1116111111"
+    assert result.e87[3] == str(E87[6])
+
+
+def test_protrusion_outranks_a_thick_run_and_a_position_error_in_its_slot():
+    # A seated wafer in slot 3 and a protruding one lying on it 0.7 mm higher: one thick run.
+    layout = scenario(load="1111111111", extra=free_wafer("P", 396.0, seat(3) + 0.7))
+    assert scan_layout(layout).code == "1161111111"
+
+
+# --- 4. Warnings and the unscanned state -----------------------------------------------------
+
+def test_the_paper_like_scan_has_no_warnings():
+    result = scan_layout(scenario())
+    assert result.warnings == ()
+    assert result.code == "1111111111"
+
+
+@pytest.mark.parametrize("step, thickness, warned", [
+    (2.0, 0.775, True), (0.4, 0.775, True), (0.3875, 0.775, False), (0.35, 0.7, False),
+    (0.36, 0.7, True), (0.05, 0.7, False)])
+def test_a_step_coarser_than_half_the_thinnest_wafer_warns(step, thickness, warned):
+    result = scan_layout(scenario(step=step, thickness=thickness))
+    coarse = [w for w in result.warnings if "coarser than half the thinnest wafer" in w]
+    assert bool(coarse) == warned
+    if warned:
+        assert f"{thickness:g} mm" in coarse[0]
+
+
+def test_a_thin_wafer_makes_the_thinnest_one():
+    # A thin wafer (0.25 t = 0.175 mm): 0.1 mm steps are coarser than half of it.
+    result = scan_layout(scenario(load="1111411111", step=0.1))
+    assert any("0.175 mm" in w for w in result.warnings)
+
+
+def test_coarse_steps_on_seated_wafers_are_wrong_but_warned():
+    # 2 mm steps on 0.775 mm wafers: the states are not to be trusted, and the result says so.
+    result = scan_layout(scenario(step=2.0, thickness=0.775))
+    assert result.code != "1111111111"
+    assert result.warnings
+
+
+@pytest.mark.parametrize("final, first_unscanned", [(200.0, None), (195.0, None),
+                                                    (194.99, 10), (160.0, 7), (152.0, 6)])
+def test_slots_whose_window_is_not_wholly_scanned_are_unscanned(final, first_unscanned):
+    result = scan_layout(scenario(final=final))
+    if first_unscanned is None:
+        assert result.code == "1111111111"
+        return
+    n = first_unscanned - 1
+    # Window of slot s: seat +- pitch/2; slot 10's is 185..195.
+    assert result.code == "1" * n + UNSCANNED * (10 - n)
+    assert result.e87 == "3" * n + "0" * (10 - n)
+    assert any("not wholly inside the scanned range" in w for w in result.warnings)
+    data = result_dict(result)
+    assert [s["state"] for s in data["slots"]][n:] == [UNSCANNED] * (10 - n)
+    assert data["slots"][n]["state_name"] == "unscanned"
+    text = format_results(1, "SCF", result, timestamp="T")
+    rows = [line.split("\t") for line in text.split("\n\n", 1)[1].splitlines()[1:]]
+    assert [r[-1] for r in rows if int(r[0]) > n] == ["unscanned"] * (10 - n)
+    assert "code = " + "1" * n + "?" * (10 - n) in text.splitlines()
+
+
+def test_a_start_above_the_bottom_slots_makes_them_unscanned_not_empty():
+    result = scan_layout(scenario(start=126.0))
+    # Windows of slots 1-3 reach below 126 (slot 3's: 115..125 is wholly below, slot 4's from
+    # 125): slots 1..4 are unscanned.
+    assert result.code == "????111111"
+    assert result.e87.startswith("0000")
+
+
+def test_the_start_and_end_of_the_scan_inside_wafers_warn_of_cut_off_runs():
+    result = scan_layout(scenario(start=seat(2) + 0.3, final=seat(9) + 0.35))
+    cut = [w for w in result.warnings if "cut off" in w]
+    assert len(cut) == 2
+    assert "by the start" in cut[0] and "by the end" in cut[1]
+    assert f"{seat(2) + 0.3:.3f}" in cut[0] and f"{seat(9) + 0.35:.3f}" in cut[1]
+
+
+def test_results_txt_and_json_carry_the_warnings():
+    result = scan_layout(scenario(step=2.0, final=160.0))
+    assert len(result.warnings) >= 2
+    text = format_results(3, "SCF", result, timestamp="T")
+    header = text.split("\n\n", 1)[0].splitlines()
+    assert [line for line in header if line.startswith("warning = ")] == \
+        [f"warning = {w}" for w in result.warnings]
+    assert result_dict(result)["warnings"] == list(result.warnings)
+
+
+def test_slow_mode_judges_the_same_slots_unscanned():
+    layout = scenario(final=160.0)
+    layout = layout.with_scan(mode="slow")
+    assert scan_layout(layout).code == "111111????"
+
+
+def test_map_slots_unscanned_yields_to_protrusion():
+    plan = SlotPlan(3, 10.0, 100.0, 0.7, 0.35, 0.5)
+    assert map_slots(plan, [(100.0, 100.7)], [3], [2, 3]).code == "1?6"
+    assert map_slots(plan, [(100.0, 100.7)], [3], [2, 3]).e87 == "302"
+
+
+# --- 5. The smaller ones ----------------------------------------------------------------------
+
+def test_the_step_count_tolerance_is_relative():
+    # 270 mm at 1e-5 mm: x = 26999999.999999996 in binary; final_z is step 27,000,000.
+    scan = ScanParameters(start_z=280.0, final_z=550.0, z_step=1e-5)
+    assert scan.last_step == 27_000_000
+    assert scan.position(scan.last_step) == pytest.approx(550.0, abs=1e-7)
+    # Not pulled up where final_z is really off the grid.
+    assert ScanParameters(280.0, 550.0 - 0.3e-5, 1e-5).last_step == 26_999_999
+    assert ScanParameters(280.0, 550.0, 0.05).last_step == 5400
+
+
+def test_exact_edges_are_the_geometric_ones():
+    layout = scenario(load="0000000000", start=280.0, final=320.0, step=0.0,
+                      extra=free_wafer("W", 400.0, 300.0))
+    result = scan_layout(layout)
+    (wafer,) = result.wafers
+    assert wafer.z_in == 300.0
+    assert wafer.z_out == pytest.approx(300.7, abs=1e-12)
+    assert result.runs[0].z_in == 300.0
+
+
+def test_the_paper_engine_keeps_a_top_face_exactly_on_a_step():
+    # A level wafer whose top face lies on a grid step: z - seat rounds to 0.7 + 4.5e-14.
+    beam = Beam((-80.0, 266.6, 280.0), (1.0, 0.0, 0.0), 160.0)
+    seat_z = 280.0 + 1003 * 0.05
+    wafer = Wafer("W", (0.0, 400.0, seat_z), (0.0, 0.0, 1.0), 300.0, 0.7)
+    top = 280.0 + 1017 * 0.05
+    assert top - seat_z > 0.7
+    assert beam_hits_wafer((-80.0, 266.6, top), beam, wafer)
+    assert paper_beam_hits_wafer((-80.0, 266.6, top), beam, wafer)
+
+
+def test_the_paper_and_exact_engines_agree_on_level_wafers_at_every_seat_on_the_grid():
+    # Level wafers, beam well inside the rim: the mid-plane test and the exact one are the same.
+    for first in (330.15, 330.4, 380.8, 402.35):
+        layout = parse_scenario(f"""
+[scan]
+start_z = 280.0
+final_z = 600.0
+z_step = 0.05
+[sensor]
+emitter = [-80.0, 266.6, 280.0]
+direction = [1.0, 0.0, 0.0]
+length = 160.0
+[[carrier]]
+slots = 10
+pitch = 10.0
+first_slot_z = {280.0 + round((first - 280.0) / 0.05) * 0.05!r}
+center = [0.0, 400.0]
+wafer_diameter = 300.0
+wafer_thickness = 0.7
+load = "1111111111"
+""")
+        exact = scan_layout(layout, "loop")
+        paper = scan_layout(layout, "paper")
+        assert [(r.z_in, r.z_out) for r in paper.runs] == [(r.z_in, r.z_out) for r in exact.runs]
+
+
+def test_the_analytic_engine_scans_to_final_z_at_27_million_steps():
+    layout = scenario(step=1e-5, final=360.0)
+    assert (360.0 - 90.0) / 1e-5 < 27_000_000  # binary rounding: final_z a hair below its k
+    hits = ENGINES["analytic"](layout)
+    assert hits.count == 27_000_001
+    assert scan_layout(layout).code == "1111111111"
