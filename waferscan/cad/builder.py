@@ -48,10 +48,7 @@ def build_document(layout, name="WaferScanLayout", doc=None):
     """A new (or the given) document holding the layout. Returns the document, recomputed."""
     doc = doc or App.newDocument(name)
     features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
-    carrier_wafers = {c.name: [] for c in layout.carriers}
-    loose = []
-    for wafer in layout.wafers:
-        (carrier_wafers[wafer.carrier] if wafer.carrier in carrier_wafers else loose).append(wafer)
+    assemblies = {}
     for carrier in layout.carriers:
         assembly = doc.addObject("App::Part", "CarrierAssembly")
         assembly.Label = f"{carrier.name} assembly"
@@ -61,13 +58,17 @@ def build_document(layout, name="WaferScanLayout", doc=None):
                                      carrier.wafer_diameter, carrier.wafer_thickness,
                                      carrier.support_span)
         assembly.addObject(body)
-        for wafer in carrier_wafers[carrier.name]:
-            add_wafer(doc, wafer, assembly, frame)
-    for wafer in loose:
-        add_wafer(doc, wafer)
+        assemblies[carrier.name] = (assembly, frame)
+    # The wafers in the layout's order, so that the document reads back in the input's order
+    # (a free wafer that names a carrier goes into its assembly but keeps its place).
+    for wafer in layout.wafers:
+        if wafer.carrier in assemblies:
+            add_wafer(doc, wafer, *assemblies[wafer.carrier])
+        else:
+            add_wafer(doc, wafer)
     if layout.robot is not None:
         from .robot import build_robot  # pinocchio is imported only when a robot is there
-        build_robot(doc, layout.robot, layout.beam)
+        build_robot(doc, layout.robot, layout.beam, layout.lift_axis)
     else:
         scanner = features.make_scanner(doc, layout.beam.length, layout.lift_axis)
         scanner.Placement = beam_placement(layout.beam)

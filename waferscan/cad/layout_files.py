@@ -14,7 +14,7 @@ from pathlib import Path
 import FreeCAD as App
 
 from ..core.errors import InputError
-from ..core.scenario import read_scenario
+from ..core.scenario import key_line, read_scenario
 from .builder import build_document
 
 
@@ -49,8 +49,19 @@ def open_layout(path):
     suffix = path.suffix.lower()
     if suffix == ".toml":
         layout = read_scenario(path)
-        with quiet_console():
-            return build_document(layout, name=_document_name(path))
+        before = set(App.listDocuments())
+        try:
+            with quiet_console():
+                return build_document(layout, name=_document_name(path))
+        except InputError as exc:
+            if getattr(exc, "key", None) is None or exc.source != "[sensor]":
+                raise
+            # A [robot] that contradicts [sensor] (cad.robot.SensorConflict): name its line.
+            for name in set(App.listDocuments()) - before:  # the half-built document
+                App.closeDocument(name)
+            text = path.read_bytes().decode("utf-8-sig")
+            raise InputError(path, key_line(text, "sensor", exc.key),
+                             f"[sensor] {exc.message}") from None
     if suffix != ".fcstd":
         raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
     if not path.is_file():

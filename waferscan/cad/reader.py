@@ -49,6 +49,11 @@ class DocumentScene:
             role = roles.role_of(instance.obj)
             if role is not None:
                 found[role].append(instance)
+        # Wafers in the order they were made (a scenario's order, SPEC §7's JSON ``wafers``),
+        # not grouped by the container they sit in; instances of one object keep tree order.
+        made = {obj.Name: i for i, obj in enumerate(doc.Objects)}
+        found[roles.WAFER].sort(key=lambda instance: made.get(instance.obj.Name, len(made))
+                                if instance.obj.Document == doc else len(made))
         return cls(doc, *(tuple(found[r]) for r in (roles.WAFER, roles.CARRIER, roles.SCANNER,
                                                      roles.ROBOT, roles.SETTINGS)))
 

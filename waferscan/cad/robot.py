@@ -69,9 +69,39 @@ def apply_pose(robot, holder, links, scanner, joints):
     scanner.Placement = placement_of(*placements[SCANNER_LINK])
 
 
-def build_robot(doc, spec, beam):
+class SensorConflict(InputError):
+    """A scenario's [sensor] says what its [robot] cannot do: ``key`` is the [sensor] key. The
+    scenario's reader names the key's line (``layout_files.open_layout``)."""
+
+    def __init__(self, key, message):
+        self.key = key
+        super().__init__("[sensor]", None, f"{key}: {message}")
+
+
+def _vector_text(v):
+    return "[" + ", ".join(f"{c:.6g}" for c in v) + "]"
+
+
+def check_sensor(robot, joints, base, beam, lift_axis):
+    """Refuse (SensorConflict) a [sensor] the robot cannot honour: the beam's length is the
+    fork's, emitter to receiver in the URDF, and the scan moves along the robot's lift axis.
+    Silently using the robot's values would change the runs without a word."""
+    _, _, length = robot.beam(joints, base)
+    if abs(length - beam.length) > 1e-6:
+        raise SensorConflict("length", f"the scenario's beam is {beam.length:g} mm long, the "
+                             f"robot's fork holds emitter and receiver {length:g} mm apart: give "
+                             f"length = {length:g}, or leave the [robot] out")
+    axis = robot.lift_axis(base)
+    if lift_axis is not None and max(abs(a - b) for a, b in zip(axis, lift_axis)) > 1e-9:
+        raise SensorConflict("lift_axis", f"the scenario lifts along {_vector_text(lift_axis)}, "
+                             f"the robot along {_vector_text(axis)} (its lift joint, its base "
+                             f"upright): drop lift_axis, or leave the [robot] out")
+
+
+def build_robot(doc, spec, beam, lift_axis=None):
     """Add the robot of a ``RobotSpec`` to the document, its start pose taught so that its beam
-    lies on ``beam``; returns the robot's App::Part."""
+    lies on ``beam``; returns the robot's App::Part. A beam length or ``lift_axis`` (unit) the
+    robot cannot give is refused (SensorConflict)."""
     robot = WaferRobot(spec.urdf)
     base = (tuple(spec.base), spec.base_yaw)
     try:
@@ -79,6 +109,7 @@ def build_robot(doc, spec, beam):
     except ValueError as exc:
         raise InputError(spec.urdf or "[robot]", None, f"cannot teach the start pose: {exc}") \
             from None
+    check_sensor(robot, joints, base, beam, lift_axis)
     part = doc.addObject("App::Part", "Robot")
     part.Placement = App.Placement(App.Vector(*spec.base), App.Rotation(App.Vector(0, 0, 1),
                                                                           spec.base_yaw))

@@ -178,6 +178,12 @@ class _Reader:
             raise self.error(str(exc), table, index, key) from None
 
 
+def key_line(text, table, key):
+    """The line (1-based) of ``key`` in the [table] of scenario text, else the table's line, else
+    None: for errors found after reading (a [robot] that contradicts [sensor])."""
+    return _Lines(text.lstrip("\ufeff")).of(table, None, key)
+
+
 def read_scenario(path):
     """Read a scenario file into a ``Layout``."""
     path = Path(path)
