@@ -125,6 +125,8 @@ def scan(doc):
     doc.commitTransaction()
     App.Console.PrintMessage(f"WaferScan: {doc.Label}: slot code {result.code}, "
                              f"{len(result.runs)} sensor runs\n")
+    for warning in result.warnings:  # what the result cannot know (SPEC §3)
+        App.Console.PrintWarning(f"WaferScan: warning: {warning}\n")
     return result
 
 

@@ -3,6 +3,8 @@ speed, the scan position and what the beam sees, and the progress."""
 
 from __future__ import annotations
 
+import html
+
 from PySide import QtGui
 
 from ..addon import icon_path
@@ -109,7 +111,9 @@ class ScanTaskPanel(ClosableTaskPanel):
             self.status.setText(f"Stopped: {animation.fault}")
         elif animation.completed:
             self.progress.setValue(self.progress.maximum())
-            self.status.setText(f"Done. Slot code <b>{animation.result.code}</b>")
+            warnings = "".join(f"<br><span style='color: #b05000'>Warning: {html.escape(w)}</span>"
+                               for w in animation.result.warnings)
+            self.status.setText(f"Done. Slot code <b>{animation.result.code}</b>{warnings}")
             if self.on_completed is not None:
                 self.on_completed()
         else:
