@@ -225,6 +225,7 @@ def cmd_crosscheck(args):
         print(json.dumps(report.crosscheck_dict(check), indent=2))
     else:
         print(report.format_crosscheck(check))
+    _warn(check.result)
     return 0 if check.ok else 1
 
 

@@ -224,7 +224,10 @@ def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
     beam was read over (``visited``: in slow mode, within the carrier's pockets)."""
     scan = layout.scan
     warnings = []
-    if not scan.exact:
+    coarse = not scan.exact and scan.z_step > 0.5 * min(
+        [plan.wafer_thickness] + [w.thickness for w in layout.wafers]) + LIMIT_SLACK
+    if coarse:
+        # Only the wafers the beam can reach count (the accessibility check, run only here).
         reachable = reachable_wafers(layout)
         thinnest = min([plan.wafer_thickness] + [layout.wafers[i].thickness for i in reachable])
         if scan.z_step > 0.5 * thinnest + LIMIT_SLACK:

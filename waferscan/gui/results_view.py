@@ -147,9 +147,9 @@ class SlotCodeDialog(QtGui.QDialog):
         copy.clicked.connect(self.copy_code)
         self.e87_label = QtGui.QLabel(f"SEMI E87 slot map:\n{result.e87}", self)
         self.e87_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        self.e87_label.setToolTip("E87 SlotMap values: 1 empty, 2 not empty (thin, out of "
-                                  "position, protruding), 3 correctly occupied, 4 double "
-                                  "slotted, 5 cross slotted")
+        self.e87_label.setToolTip("E87 SlotMap values: 0 undefined (not wholly scanned), 1 "
+                                  "empty, 2 not empty (thin, out of position, protruding), 3 "
+                                  "correctly occupied, 4 double slotted, 5 cross slotted")
         legend = QtGui.QVBoxLayout()
         for code, name in STATE_NAMES.items():
             r, g, b = STATE_COLOURS[code]
