@@ -2,6 +2,8 @@
 cannot be known. Layouts are built from scenario text; the expected figures come from the
 layout's own geometry (seats, steps, thicknesses), not from a run of the code."""
 
+from dataclasses import replace
+
 import pytest
 
 from waferscan.core.engines import ENGINES
@@ -71,6 +73,17 @@ def test_protrusion_outranks_a_thick_run_and_a_position_error_in_its_slot():
     # A seated wafer in slot 3 and a protruding one lying on it 0.7 mm higher: one thick run.
     layout = scenario(load="1111111111", extra=free_wafer("P", 396.0, seat(3) + 0.7))
     assert scan_layout(layout).code == "1161111111"
+
+
+def test_a_protruding_cross_slotted_wafer_is_6_in_both_of_its_slots():
+    layout = scenario(load="0220000000")
+    (cross,) = layout.wafers
+    x, y, z = cross.center
+    pushed = replace(layout, wafers=(replace(cross, center=(x, y - 4.0, z)),))
+    assert scan_layout(layout).code == "0220000000"
+    result = scan_layout(pushed)
+    assert dict(result.protrusions)[cross.name] > 3.9
+    assert result.code == "0660000000"
 
 
 # --- 4. Warnings and the unscanned state -----------------------------------------------------

@@ -122,8 +122,12 @@ def unscanned_slots(plan, scanned):
     if scanned is None:
         return list(range(1, plan.slot_count + 1))
     low, high = scanned
-    return [slot for slot in range(1, plan.slot_count + 1)
-            if plan.window(slot)[0] < low - LIMIT_SLACK or plan.window(slot)[1] > high + LIMIT_SLACK]
+    outside = []
+    for slot in range(1, plan.slot_count + 1):
+        bottom, top = plan.window(slot)
+        if bottom < low - LIMIT_SLACK or top > high + LIMIT_SLACK:
+            outside.append(slot)
+    return outside
 
 
 def map_slots(plan, runs, protruding_slots=(), unscanned=()):
