@@ -118,10 +118,13 @@ def test_coarse_steps_on_seated_wafers_are_wrong_but_warned():
     assert result.warnings
 
 
-@pytest.mark.parametrize("final, first_unscanned", [(200.0, None), (195.0, None),
-                                                    (194.99, 10), (160.0, 7), (152.0, 6)])
-def test_slots_whose_window_is_not_wholly_scanned_are_unscanned(final, first_unscanned):
-    result = scan_layout(scenario(final=final))
+@pytest.mark.parametrize("final, step, first_unscanned", [
+    (200.0, 0.05, None), (195.0, 0.05, None), (195.0, 0.08, None), (194.99, 0.05, 10),
+    (160.0, 0.05, 7), (152.0, 0.05, 6)])
+def test_slots_whose_window_is_not_wholly_scanned_are_unscanned(final, step, first_unscanned):
+    # The scanned range is start_z..final_z: the grid's last position may lie up to a step
+    # below final_z (194.96 at 0.08 mm steps), as any point of the range lies within a step.
+    result = scan_layout(scenario(final=final, step=step))
     if first_unscanned is None:
         assert result.code == "1111111111"
         return

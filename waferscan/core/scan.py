@@ -220,8 +220,9 @@ def scanned_range(scan, window=None):
 def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
     """Why parts of a scan's result cannot be known (SPEC §3 "Honest results"), one sentence
     each: a step coarser than half the thinnest wafer, slots whose window the scan did not
-    wholly cover (``scanned`` the range of the stroke), runs cut off by an end of the range the
-    beam was read over (``visited``: in slow mode, within the carrier's pockets)."""
+    wholly cover (``scanned``: start_z to final_z), runs cut off by an end of the range the beam
+    was read over (``visited``: the first and last stepped positions; in slow mode, within the
+    carrier's pockets)."""
     scan = layout.scan
     warnings = []
     coarse = not scan.exact and scan.z_step > 0.5 * min(
@@ -272,7 +273,9 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None):
     wafers = tuple(WaferInterval(w.name, *(span if span is not None else (None, None)))
                    for w, span in zip(layout.wafers, wafer_spans))
     flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
-    scanned = scanned_range(scan)
+    # The range the scan was set to cover; between its stepped positions, as everywhere on the
+    # grid, the beam is sampled a step apart.
+    scanned = (scan.start_z, scan.final_z)
     unscanned = unscanned_slots(plan, scanned)
     slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
