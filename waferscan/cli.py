@@ -87,33 +87,6 @@ def _warn(result):
         sys.stderr.write(f"{PROG}: warning: {warning}\n")
 
 
-def paper_test_beside_exact(paper, exact):
-    """Where the paper's own mid-plane test (``paper``, a ScanResult of the paper engine) and
-    the exact test (``exact``) differ, wafer by wafer, and why: a list of text lines."""
-    lines = ["The paper's own test (paper engine) beside the exact test (analytic engine), per "
-             "wafer; IN/OUT in mm:",
-             f"{'wafer':<10} {'exact IN':>9} {'exact OUT':>9} {'paper IN':>9} {'paper OUT':>9}"
-             f"  why they differ"]
-    e = exact.layout.beam.direction
-    for mine, theirs, wafer in zip(exact.wafers, paper.wafers, exact.layout.wafers):
-        if mine.z_in is None and theirs.z_in is None:
-            continue
-        same = (mine.z_in is not None and theirs.z_in is not None
-                and abs(mine.z_in - theirs.z_in) < 1e-9 and abs(mine.z_out - theirs.z_out) < 1e-9)
-        tilt = abs(sum(a * b for a, b in zip(e, wafer.normal)))
-        if same:
-            why = "same"
-        elif tilt > 1e-12:
-            why = (f"tilted wafer: the paper's test meets its mid-plane only and ignores its "
-                   f"{wafer.thickness:g} mm thickness")
-        else:
-            why = "level wafer: the paper's test tells the disc by its centre distance alone"
-        cells = [f"{v:9.3f}" if v is not None else f"{'-':>9}"
-                 for v in (mine.z_in, mine.z_out, theirs.z_in, theirs.z_out)]
-        lines.append(f"{mine.name:<10} {' '.join(cells)}  {why}")
-    return lines
-
-
 def _print_result(result, as_json, paper=False):
     if as_json:
         print(json.dumps(report.result_dict(result), indent=2))
@@ -172,7 +145,7 @@ def cmd_demo(args):
     _print_result(result, False, paper=True)
     print()
     if exact is not result:
-        for line in paper_test_beside_exact(result, exact):
+        for line in report.paper_test_beside_exact(result, exact):
             print(line)
         print()
         for ok, text in demo_checks(result):
