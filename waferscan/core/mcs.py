@@ -16,7 +16,7 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import schema
+from . import schema, validation
 from .errors import InputError
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -141,7 +141,26 @@ def apply_parameters(layout, parameters):
         if key is None:
             raise InputError(parameters.source, None, str(exc)) from None
         raise parameters.error(key, str(exc)) from None
+    _check_layout(layout, parameters)
     return layout
+
+
+# parameters.txt's names for the scenario format's carrier keys (validation.Problem.key).
+_PARAMETER_NAMES = {"slots": "slot_count", "pitch": "slot_pitch"}
+
+
+def _check_layout(layout, parameters):
+    """The values together (validation.layout_problems): the first problem, blamed on the line
+    of this file that set the value when it did, else on the file."""
+    # The supports are the carrier's geometry, which a nominal wafer_diameter does not move.
+    problems = [p for p in validation.layout_problems(layout) if p.key != "support_span"]
+    if problems:
+        key = _PARAMETER_NAMES.get(problems[0].key, problems[0].key)
+        if key == "sensor_response" and key not in parameters.values:
+            key = "scan_speed"  # the lag is their product: blame the one this file set
+        if key in parameters.values:
+            raise parameters.error(key, problems[0].message)
+        raise InputError(parameters.source, None, problems[0].message)
 
 
 def used_parameters(layout):
