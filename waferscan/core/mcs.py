@@ -230,6 +230,17 @@ def parse_commands(text):
 RESULT_COLUMNS = ("slot", "slot_z", "wafer", "in", "out", "diff", "state")
 
 
+def _cell(text):
+    """A table cell: a wafer's label may hold anything, but a tab or a line break in it would
+    make a column or a row of its own (a label ``seq = 9`` would even read as a header line),
+    so backslashes and control characters are written as escapes (``\\t``, ``\\n``, ``\\x1b``)."""
+    if text.isprintable() and "\\" not in text:
+        return text
+    named = {"\\": "\\\\", "\t": "\\t", "\n": "\\n", "\r": "\\r"}
+    return "".join(named.get(c) or (c if c.isprintable() else f"\\x{ord(c):02x}" if ord(c) < 256
+                                    else f"\\u{ord(c):04x}") for c in text)
+
+
 def _mm(x):
     return "" if x is None else f"{x:.3f}"
 
@@ -253,7 +264,8 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
     if result is not None and not error:
         lines += ["", "\t".join(RESULT_COLUMNS)]
         for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
-            lines.append("\t".join((str(slot), _mm(seat), ",".join(wafers) or "-", _mm(z_in),
+            names = _cell(",".join(wafers)) or "-"
+            lines.append("\t".join((str(slot), _mm(seat), names, _mm(z_in),
                                     _mm(z_out), _mm(diff), state)))
     return "\n".join(lines) + "\n"
 
