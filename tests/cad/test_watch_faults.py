@@ -74,13 +74,15 @@ def test_a_half_written_last_line_of_parameters_is_not_taken(doc, tmp_path):
     assert answers(doc, tmp_path, "1 SCF\n2 SCF\n") == [(2, "ok", CODE)]
 
 
-def test_a_mode_line_that_contradicts_the_command_is_refused(doc, tmp_path):
-    (tmp_path / "parameters.txt").write_text("mode = slow\n")
-    assert answers(doc, tmp_path, "1 SCF\n2 SCS\n") == [
-        (1, "error", f"{tmp_path / 'parameters.txt'}:1: mode: mode = slow contradicts SCF (the "
-                     "command sets the mode: SCF fast, SCS slow); remove the line or send the "
-                     "other command"),
-        (2, "ok", CODE)]
+def test_a_mode_line_that_contradicts_the_command_is_said_in_the_answer(doc, tmp_path):
+    (tmp_path / "parameters.txt").write_text("z_step = 0.05\nmode = slow\n")
+    assert answers(doc, tmp_path, "1 SCF\n2 SCS\n") == [(1, "ok", CODE), (2, "ok", CODE)]
+    first = (tmp_path / "history" / "results-00000001.txt").read_text().splitlines()
+    assert first[3] == f"message = {tmp_path / 'parameters.txt'}:2: mode = slow is overridden " \
+                       "by SCF (fast scan)"
+    assert "mode = fast" in first
+    second = (tmp_path / "history" / "results-00000002.txt").read_text().splitlines()
+    assert second[3] == "message =" and "mode = slow" in second
 
 
 @pytest.mark.parametrize("text, line, key", [

@@ -18,7 +18,7 @@ import FreeCAD as App
 
 from ..core.errors import InputError
 from ..core.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
-from ..core.mcs_link import McsLink, read_regular_text
+from ..core.mcs_link import McsLink, Scanned, read_regular_text
 from .document_scan import scan_document
 from .reader import DocumentScene, read_layout
 
@@ -27,11 +27,10 @@ MAX_PARAMETERS_BYTES = 64 * 1024
 COMMAND_MODES = {"SCF": "fast", "SCS": "slow"}
 
 
-def read_link_parameters(path, command):
+def read_link_parameters(path):
     """parameters.txt for one SCF/SCS: a regular file (no symlink, FIFO or device) of at most
     MAX_PARAMETERS_BYTES, every line ended (a last line without its newline may be cut short
-    while the MCS writes it: ``z_step = 0.0`` of ``0.05``), and no ``mode`` other than the
-    command's. None when there is no file."""
+    while the MCS writes it: ``z_step = 0.0`` of ``0.05``). None when there is no file."""
     path = Path(path)
     try:
         text = read_regular_text(path, MAX_PARAMETERS_BYTES)
@@ -41,13 +40,17 @@ def read_link_parameters(path, command):
         last = text.count("\n") + 1
         raise InputError(path, last, "the last line has no line end: it may still be being "
                                      "written; end every line with a newline")
-    parameters = parse_parameters(text, str(path))
+    return parse_parameters(text, str(path))
+
+
+def mode_note(parameters, command):
+    """The answer's note when parameters.txt sets a ``mode`` other than the command's: the
+    command wins (SCF is a fast scan, SCS a slow one), and the answer says so."""
     mode = COMMAND_MODES[command]
-    if "mode" in parameters.values and parameters.values["mode"] != mode:
-        raise parameters.error("mode", f"mode = {parameters.values['mode']} contradicts "
-                                       f"{command} (the command sets the mode: SCF fast, SCS "
-                                       "slow); remove the line or send the other command")
-    return parameters
+    if parameters is None or parameters.values.get("mode", mode) == mode:
+        return ""
+    return (f"{parameters.source}:{parameters.lines['mode']}: mode = "
+            f"{parameters.values['mode']} is overridden by {command} ({mode} scan)")
 
 
 class DocumentLayout:
@@ -97,16 +100,19 @@ def document_scanner(doc, folder, engine="analytic"):
     def scan(command, should_stop):
         should_stop()
         path = folder / PARAMETERS
-        parameters = read_link_parameters(path, command.name) or Parameters({}, {}, str(path))
+        read = read_link_parameters(path)
+        note = mode_note(read, command.name)
+        parameters = read or Parameters({}, {}, str(path))
         parameters = Parameters({**parameters.values, "mode": COMMAND_MODES[command.name]},
                                 parameters.lines, parameters.source)
         scene, layout = cache.get()
         cache.scanning = True
         try:
-            return scan_document(doc, engine, progress=lambda done, total: should_stop(),
-                                 parameters=parameters, read=(scene, layout))
+            result = scan_document(doc, engine, progress=lambda done, total: should_stop(),
+                                   parameters=parameters, read=(scene, layout))
         finally:
             cache.scanning = False
+        return Scanned(result, note) if note else result
 
     scan.close = cache.close
     return scan
@@ -162,7 +168,7 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
     try:
         if once:
             link.poll()
-            return 0
+            return 1 if link.unanswered else 0  # the fault is on stderr
         out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
         checked = time.monotonic()
         while True:

@@ -80,6 +80,15 @@ class FolderBusy(InputError):
 
 
 @dataclass(frozen=True)
+class Scanned:
+    """What a scan function may return in place of a bare ScanResult: the result and a note
+    for the answer's ``message`` line (e.g. a parameter the command overrode)."""
+
+    result: object
+    message: str = ""
+
+
+@dataclass(frozen=True)
 class Answer:
     seq: int
     command: str
@@ -291,7 +300,8 @@ def _mode_for(path):
 
 class McsLink:
     """One MCS folder. ``scan(command, should_stop)`` carries out SCF/SCS and returns a core
-    ScanResult; it raises InputError for bad input and must call ``should_stop()`` now and then
+    ScanResult (or a ``Scanned``); it raises InputError for bad input and must call
+    ``should_stop()`` now and then
     (which raises ScanStopped when a STOP has arrived). ``log`` gets one line per answer and per
     skipped line; ``report`` one line per fault of the folder (default: ``log``). Call
     ``close()`` (or use it as a context manager) to give the folder back."""
@@ -439,6 +449,11 @@ class McsLink:
                 break
         return answers
 
+    @property
+    def unanswered(self):
+        """Seqs carried out whose answers could not be written yet (a fault of the folder)."""
+        return [seq for seq, _, _, _ in self._unwritten]
+
     def _flush_unwritten(self, answers):
         """Write the answers carried out but not written; False when the folder still fails."""
         if time.monotonic() < self._retry_at:
@@ -498,6 +513,9 @@ class McsLink:
                                  f"{type(exc).__name__}: {shown(exc)}")]
         finally:
             self._running = False
+        if isinstance(result, Scanned):
+            return [self._answer(command.seq, command.name, result=result.result,
+                                 message=result.message)]
         return [self._answer(command.seq, command.name, result=result)]
 
     def _answer(self, seq, name, result=None, error=None, message=""):
