@@ -203,29 +203,24 @@ def cmd_crosscheck(args):
 
 
 def cmd_watch(args):
-    import time
-
-    from .cad.layout_files import opened_layout
-    from .cad.mcs_watch import document_scanner
-    from .core.mcs_link import McsLink
+    from .cad.mcs_watch import watch
 
     folder = Path(args.folder)
     if not folder.is_dir():
         raise InputError(folder, None, "no such folder")
-    layout = args.layout or paper_scenario()
-    with opened_layout(layout) as doc:
-        link = McsLink(folder, document_scanner(doc, folder, args.engine),
-                       log=lambda text: print(text, flush=True))
-        if args.once:
-            link.poll()
-            return 0
-        print(f"watching {folder / COMMANDS} (layout {layout}); Ctrl-C to stop", flush=True)
-        try:
-            while True:
-                link.poll()
-                time.sleep(args.poll)
-        except KeyboardInterrupt:
-            return 0
+    return watch(folder, Path(args.layout) if args.layout else paper_scenario(), args.engine,
+                 args.poll, once=args.once)
+
+
+def _poll_seconds(text):
+    """--poll: a finite number of seconds, above 0 and at most a minute."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not 0.0 < seconds <= 60.0:  # also refuses nan; inf is above 60
+        raise argparse.ArgumentTypeError(f"must be above 0 and at most 60 s, got {text!r}")
+    return seconds
 
 
 def cmd_bench(args):
@@ -308,8 +303,9 @@ def build_parser():
                                                          "(default: the paper's experiment)")
     watch.add_argument("--once", action="store_true", help="carry out what is pending, then exit")
     watch.add_argument("--engine", choices=engines, default="analytic")
-    watch.add_argument("--poll", type=float, default=0.1, metavar="SECONDS",
-                       help="how often commands.txt is read (default 0.1 s)")
+    watch.add_argument("--poll", type=_poll_seconds, default=0.01, metavar="SECONDS",
+                       help="how often commands.txt is checked for a change, one stat "
+                            "(default 0.01 s)")
     watch.set_defaults(run=cmd_watch)
 
     bench = sub.add_parser("bench", help="the engines side by side (SPEC §9)")

@@ -184,7 +184,7 @@ def test_leftovers_of_a_killed_writer_are_cleared_at_start(tmp_path):
     (tmp_path / "history" / ".results-00000003.txt.x.tmp").write_text("half")
     (tmp_path / "notes.tmp").write_text("the user's")
     link(tmp_path)
-    assert sorted(p.name for p in tmp_path.rglob("*")) == ["history", "notes.tmp"]
+    assert sorted(p.name for p in tmp_path.rglob("*")) == [".waferscan.lock", "history", "notes.tmp"]
 
 
 def test_seq_zero_is_a_seq_like_any_other(tmp_path):

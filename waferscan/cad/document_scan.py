@@ -70,17 +70,25 @@ class _LocalDisc:
     def read(self):
         placement = self.instance.placement()
         c = placement.multVec(self.center)
-        n = placement.Rotation.multVec(self.normal)
+        # FreeCAD 0.20 leaks ~80 B on each Placement.Rotation (and vector property) access:
+        # the normal is turned by the placement's matrix with its translation taken out.
+        turn = placement.toMatrix()
+        turn.A14 = turn.A24 = turn.A34 = 0.0
+        n = turn.multVec(self.normal)
         return Wafer(self.wafer.name, (c.x, c.y, c.z), (n.x, n.y, n.z), self.wafer.diameter,
                      self.wafer.thickness)
 
 
-def read_beam(instance):
-    """The beam as the scanner's placement in the document puts it now."""
-    holder = roles.role_holder(instance.obj)
+def read_beam(instance, ends=None):
+    """The beam as the scanner's placement in the document puts it now. ``ends``: the
+    scanner's (Emitter, Receiver) read once for a whole scan (each read of a vector property
+    leaks a little in FreeCAD 0.20)."""
+    if ends is None:
+        holder = roles.role_holder(instance.obj)
+        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
     placement = instance.placement()
-    e = placement.multVec(App.Vector(holder.Emitter))
-    r = placement.multVec(App.Vector(holder.Receiver))
+    e = placement.multVec(ends[0])
+    r = placement.multVec(ends[1])
     return Beam((e.x, e.y, e.z), unit(r - e), (r - e).Length)
 
 
@@ -96,6 +104,8 @@ def stepper_through_document(scene, mover, prepare):
             raise ValueError("z_step = 0 (exact edges) is only offered by the analytic engine")
         hits = prepare(layout, reachable_wafers(layout))
         scanner = scene.scanner()
+        holder = roles.role_holder(scanner.obj)
+        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
         count = scan.position_count
         first = [None] * len(layout.wafers)
         last = [None] * len(layout.wafers)
@@ -103,7 +113,7 @@ def stepper_through_document(scene, mover, prepare):
         try:
             for k in range(count):
                 mover.move_to(scan.position(k))
-                for i in hits(read_beam(scanner)):
+                for i in hits(read_beam(scanner, ends)):
                     blocked[k] = True
                     first[i] = k if first[i] is None else first[i]
                     last[i] = k
@@ -129,14 +139,19 @@ def document_stepper(scene, mover):
     return stepper_through_document(scene, mover, prepare)
 
 
-def scan_document(doc, engine="analytic", progress=None, parameters=None, check=None):
+def scan_document(doc, engine="analytic", progress=None, parameters=None, check=None,
+                  read=None):
     """Read the document and scan it. ``parameters`` (a core ``mcs.Parameters``) override the
-    document's own scan settings; ``check(layout)`` may refuse the layout before the scan.
-    Returns the core ``ScanResult``."""
-    scene = DocumentScene.of(doc)
-    # The scanner's LiftAxis says how the scan moves it (the robot's builder writes its lift
-    # joint's axis there): reading needs no kinematics, so pinocchio stays unimported here.
-    layout = read_layout(doc, scene)
+    document's own scan settings; ``check(layout)`` may refuse the layout before the scan;
+    ``read`` is (scene, layout) already read from this document, unchanged since (the MCS
+    link's cache). Returns the core ``ScanResult``."""
+    if read is not None:
+        scene, layout = read
+    else:
+        scene = DocumentScene.of(doc)
+        # The scanner's LiftAxis says how the scan moves it (the robot's builder writes its
+        # lift joint's axis there): reading needs no kinematics, so pinocchio stays unimported.
+        layout = read_layout(doc, scene)
     if parameters is not None:
         layout = apply_parameters(layout, parameters)
     if check is not None:

@@ -1,26 +1,200 @@
 """The headless MCS link on a FreeCAD document: each SCF/SCS reads parameters.txt afresh and
-scans the document, checking for STOP while it runs."""
+scans the document, checking for STOP while it runs.
+
+The document's layout is read once and again only after the document changed (a FreeCAD
+document observer says so): reading it asks every wafer's solid for its surfaces, and FreeCAD
+0.20's surface and vector-property accessors leak a little on each call (FREECAD-NOTES), so a
+link that read it at every command would grow without bound.
+"""
 
 from __future__ import annotations
 
+import os
+import sys
+import time
 from pathlib import Path
 
-from ..core.mcs import PARAMETERS, Parameters, read_parameters
+import FreeCAD as App
+
+from ..core.errors import InputError
+from ..core.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
+from ..core.mcs_link import McsLink, Scanned, read_regular_text
 from .document_scan import scan_document
+from .reader import DocumentScene, read_layout
+
+# parameters.txt is a few hundred bytes; more is not a parameters file.
+MAX_PARAMETERS_BYTES = 64 * 1024
+COMMAND_MODES = {"SCF": "fast", "SCS": "slow"}
+
+
+def read_link_parameters(path):
+    """parameters.txt for one SCF/SCS: a regular file (no symlink, FIFO or device) of at most
+    MAX_PARAMETERS_BYTES, every line ended (a last line without its newline may be cut short
+    while the MCS writes it: ``z_step = 0.0`` of ``0.05``). None when there is no file."""
+    path = Path(path)
+    try:
+        text = read_regular_text(path, MAX_PARAMETERS_BYTES)
+    except FileNotFoundError:
+        return None
+    if text and not text.endswith("\n"):
+        last = text.count("\n") + 1
+        raise InputError(path, last, "the last line has no line end: it may still be being "
+                                     "written; end every line with a newline")
+    return parse_parameters(text, str(path))
+
+
+def mode_note(parameters, command):
+    """The answer's note when parameters.txt sets a ``mode`` other than the command's: the
+    command wins (SCF is a fast scan, SCS a slow one), and the answer says so."""
+    mode = COMMAND_MODES[command]
+    if parameters is None or parameters.values.get("mode", mode) == mode:
+        return ""
+    return (f"{parameters.source}:{parameters.lines['mode']}: mode = "
+            f"{parameters.values['mode']} is overridden by {command} ({mode} scan)")
+
+
+class DocumentLayout:
+    """The document's scene and layout, read again only after the document changed. While the
+    link's own scan runs, placement changes are the scan moving the scanner or the robot (and
+    putting them back), not edits."""
+
+    def __init__(self, doc):
+        self.doc = doc
+        self.version = 0
+        self.scanning = False
+        self._read = None  # (version, scene, layout)
+        App.addDocumentObserver(self)
+
+    def close(self):
+        App.removeDocumentObserver(self)
+
+    # FreeCAD's document observer slots
+    def slotChangedObject(self, obj, prop):
+        if not (self.scanning and prop in ("Placement", "Shape")):
+            self.version += 1
+
+    def slotCreatedObject(self, obj):
+        self.version += 1
+
+    def slotDeletedObject(self, obj):
+        self.version += 1
+
+    def slotRecomputedDocument(self, doc):
+        self.version += 1
+
+    def get(self):
+        """(scene, layout), read now if the document changed since the last read."""
+        if self._read is None or self._read[0] != self.version:
+            version = self.version
+            scene = DocumentScene.of(self.doc)
+            self._read = (version, scene, read_layout(self.doc, scene))
+        return self._read[1], self._read[2]
 
 
 def document_scanner(doc, folder, engine="analytic"):
-    """The ``scan`` function of an ``McsLink`` for a document."""
+    """The ``scan`` function of an ``McsLink`` for a document; its ``close()`` stops following
+    the document's changes."""
     folder = Path(folder)
+    cache = DocumentLayout(doc)
 
     def scan(command, should_stop):
         should_stop()
         path = folder / PARAMETERS
-        parameters = read_parameters(path) if path.exists() else Parameters({}, {}, str(path))
-        mode = "fast" if command.name == "SCF" else "slow"
-        parameters = Parameters({**parameters.values, "mode": mode}, parameters.lines,
-                                parameters.source)
-        return scan_document(doc, engine, progress=lambda done, total: should_stop(),
-                             parameters=parameters)
+        read = read_link_parameters(path)
+        note = mode_note(read, command.name)
+        parameters = read or Parameters({}, {}, str(path))
+        parameters = Parameters({**parameters.values, "mode": COMMAND_MODES[command.name]},
+                                parameters.lines, parameters.source)
+        scene, layout = cache.get()
+        cache.scanning = True
+        try:
+            result = scan_document(doc, engine, progress=lambda done, total: should_stop(),
+                                   parameters=parameters, read=(scene, layout))
+        finally:
+            cache.scanning = False
+        return Scanned(result, note) if note else result
 
+    scan.close = cache.close
     return scan
+
+
+LAYOUT_CHECK_SECONDS = 1.0  # how often the layout file is checked for a change
+
+
+def _file_signature(path):
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+
+
+class _FailingScanner:
+    """Answers every scan with the reason the layout cannot be opened (the link goes on)."""
+
+    def __init__(self, error):
+        self.error = error
+
+    def __call__(self, command, should_stop):
+        raise self.error
+
+    def close(self):
+        pass
+
+
+def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
+    """``waferscan watch``: the link on ``folder`` with the layout at ``layout_path`` (a
+    scenario or a .FCStd), answers logged on stdout, faults on stderr. The layout is opened
+    again when its file changes (a new one that cannot be opened answers every scan with the
+    reason until it is fixed). Returns the exit status; InputError when the layout cannot be
+    opened at the start or another link holds the folder."""
+    from .layout_files import open_layout
+
+    def out(text):
+        print(text, flush=True)
+
+    def err(text):
+        print(f"waferscan: {text}", file=sys.stderr, flush=True)
+
+    signature = _file_signature(layout_path)
+    doc = open_layout(layout_path)
+    scanner = document_scanner(doc, folder, engine)
+    try:
+        link = McsLink(folder, scanner, log=out, report=err)
+    except BaseException:
+        scanner.close()
+        App.closeDocument(doc.Name)
+        raise
+    try:
+        if once:
+            link.poll()
+            return 1 if link.unanswered else 0  # the fault is on stderr
+        out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
+        checked = time.monotonic()
+        while True:
+            link.poll()
+            time.sleep(poll)
+            if time.monotonic() - checked >= LAYOUT_CHECK_SECONDS:
+                checked = time.monotonic()
+                now = _file_signature(layout_path)
+                if now != signature:
+                    signature = now
+                    scanner.close()
+                    if doc is not None:
+                        App.closeDocument(doc.Name)
+                        doc = None
+                    try:
+                        doc = open_layout(layout_path)
+                        scanner = document_scanner(doc, folder, engine)
+                        out(f"{layout_path}: changed, opened again")
+                    except InputError as exc:
+                        scanner = _FailingScanner(exc)
+                        err(f"{exc} (each scan is answered with this until it is fixed)")
+                    link.scan = scanner
+    except KeyboardInterrupt:
+        return 0
+    finally:
+        link.close()
+        scanner.close()
+        if doc is not None:
+            App.closeDocument(doc.Name)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import FreeCAD as App
 
-from ..core import schema
+from ..core import schema, validation
 from ..core.errors import InputError
 from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
                           unit)
@@ -82,7 +82,7 @@ def carrier_from(instance):
     holder = roles.role_holder(instance.obj)
     anchor = instance.placement().multiply(holder.SlotOrigin)
     back = anchor.Rotation.multVec(App.Vector(0, 1, 0))
-    norm = math.hypot(back.x, back.y)
+    norm = math.hypot(back.x, back.y) or float("nan")  # standing on edge: validation refuses
     label = holder.Label if instance.obj is holder else instance.obj.Label
     try:
         schema.carrier_name(label)
@@ -107,7 +107,11 @@ def beam_from(instance):
     if length == 0.0:
         raise InputError(document_source(instance.root.Document), None,
                          f"{instance.path}: the beam's emitter and receiver coincide")
-    return Beam((emitter.x, emitter.y, emitter.z), unit(receiver - emitter), length)
+    try:
+        direction = unit(receiver - emitter)
+    except ValueError:  # non-finite Emitter or Receiver: validation names the property
+        direction = (math.nan,) * 3
+    return Beam((emitter.x, emitter.y, emitter.z), direction, length)
 
 
 def _unique_names(instances):
@@ -152,8 +156,10 @@ def read_layout(doc, scene=None):
     scene = scene or DocumentScene.of(doc)
     scanner = scene.scanner()
     beam = beam_from(scanner)
-    lift_axis = unit(App.Vector(roles.role_holder(scanner.obj).LiftAxis))
+    lift_axis = tuple(App.Vector(roles.role_holder(scanner.obj).LiftAxis))
     carriers = [carrier_from(i) for i in scene.carriers]
+    _check_values(scene, scanner, carriers, beam, lift_axis)
+    lift_axis = unit(lift_axis)
     wafers = [wafer_from(i, name) for i, name in zip(scene.wafers, _unique_names(scene.wafers))]
     scan, mapping, chosen = _settings(scene, beam, carriers)
     names = [c.name for c in carriers]
@@ -168,5 +174,43 @@ def read_layout(doc, scene=None):
     travel = (scan.start_z - beam.emitter[2]) / lift_axis[2]
     emitter = tuple(e + travel * a for e, a in zip(beam.emitter, lift_axis))
     beam = Beam((emitter[0], emitter[1], scan.start_z), beam.direction, beam.length)
-    return Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
-                  lift_axis=lift_axis, mapping=mapping, carrier=chosen or names[0])
+    layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
+                    lift_axis=lift_axis, mapping=mapping, carrier=chosen or names[0])
+    _check_values(scene, scanner, carriers, beam, lift_axis, layout)
+    return layout
+
+
+# The properties that hold validation.Problem keys: a carrier's, the scanner's, ScanSettings'.
+_CARRIER_PROPERTIES = {"slots": "SlotCount", "pitch": "Pitch", "wafer_diameter": "WaferDiameter",
+                       "wafer_thickness": "WaferThickness", "support_span": "SupportSpan",
+                       "first_slot_z": "SlotOrigin", "center": "SlotOrigin",
+                       "front": "SlotOrigin"}
+_SCANNER_PROPERTIES = {"emitter": "Emitter", "direction": "Receiver", "length": "Receiver",
+                       "lift_axis": "LiftAxis"}
+
+
+def _check_values(scene, scanner, carriers, beam, lift_axis, layout=None):
+    """validation.layout_problems on what was read, the first problem named by the object and
+    property it came from. Before the layout is whole (``layout`` None) only the carriers and
+    the beam are checked: the rest of the reading needs them sound."""
+    if layout is None:
+        problems = [p for i, c in enumerate(carriers) for p in validation.carrier_problems(c, i)]
+        problems += validation.beam_problems(beam, lift_axis)
+    else:
+        problems = validation.layout_problems(layout)
+    if not problems:
+        return
+    key, message, index, group = problems[0]
+    if group == "carrier" and index is not None and index < len(scene.carriers):
+        holder = roles.role_holder(scene.carriers[index].obj)
+        raise scene.error(f"{holder.Label}.{_CARRIER_PROPERTIES.get(key, key)}: {message}")
+    if group == "sensor":
+        holder = roles.role_holder(scanner.obj)
+        raise scene.error(f"{holder.Label}.{_SCANNER_PROPERTIES.get(key, key)}: {message}")
+    if group == "scan" and scene.settings:
+        holder = roles.role_holder(scene.settings[0].obj)
+        prop = next((p for p, _, field, _ in SETTINGS_PROPERTIES if field == key), key)
+        raise scene.error(f"{holder.Label}.{prop}: {message}")
+    if group == "wafer" and index is not None and index < len(scene.wafers):
+        raise scene.error(f"{scene.wafers[index].path}: {message}")
+    raise scene.error(message)

@@ -69,6 +69,20 @@ def apply_pose(robot, holder, links, scanner, joints):
     scanner.Placement = placement_of(*placements[SCANNER_LINK])
 
 
+def load_robot(urdf, source):
+    """The robot model of a URDF file; a file Pinocchio cannot read, or a model without the
+    joints a scan needs, is bad input naming ``source`` (the scenario or the document)."""
+    try:
+        robot = WaferRobot(urdf)
+        robot.limits[robot.lift_joint]  # noqa: B018 (a model without a lift joint cannot scan)
+    except (ValueError, KeyError, RuntimeError) as exc:
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        where = "" if str(source) == str(urdf) else f"{urdf}: "
+        raise InputError(source, None, f"{where}not a URDF robot WaferScan can move "
+                                       f"({first[:200]})") from None
+    return robot
+
+
 class SensorConflict(InputError):
     """A scenario's [sensor] says what its [robot] cannot do: ``key`` is the [sensor] key. The
     scenario's reader names the key's line (``layout_files.open_layout``)."""
@@ -102,7 +116,7 @@ def build_robot(doc, spec, beam, lift_axis=None):
     """Add the robot of a ``RobotSpec`` to the document, its start pose taught so that its beam
     lies on ``beam``; returns the robot's App::Part. A beam length or ``lift_axis`` (unit) the
     robot cannot give is refused (SensorConflict)."""
-    robot = WaferRobot(spec.urdf)
+    robot = load_robot(spec.urdf, spec.urdf or "[robot]")
     base = (tuple(spec.base), spec.base_yaw)
     try:
         joints = robot.teach_start_pose(base, beam.emitter, beam.direction)
@@ -153,7 +167,7 @@ class RobotMover:
             raise scene.error(f"expected one robot, found {len(scene.robots)}")
         instance = scene.robots[0]
         self.holder = roles.role_holder(instance.obj)
-        self.robot = WaferRobot(_urdf(self.holder))
+        self.robot = load_robot(_urdf(self.holder), self.holder.Label)
         self.start = _joint_dict(self.holder)
         self.links, self.scanner = {}, None
         for obj in self.holder.Group:

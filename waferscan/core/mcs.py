@@ -16,7 +16,7 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import schema
+from . import schema, validation
 from .errors import InputError
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -141,7 +141,26 @@ def apply_parameters(layout, parameters):
         if key is None:
             raise InputError(parameters.source, None, str(exc)) from None
         raise parameters.error(key, str(exc)) from None
+    _check_layout(layout, parameters)
     return layout
+
+
+# parameters.txt's names for the scenario format's carrier keys (validation.Problem.key).
+_PARAMETER_NAMES = {"slots": "slot_count", "pitch": "slot_pitch"}
+
+
+def _check_layout(layout, parameters):
+    """The values together (validation.layout_problems): the first problem, blamed on the line
+    of this file that set the value when it did, else on the file."""
+    # The supports are the carrier's geometry, which a nominal wafer_diameter does not move.
+    problems = [p for p in validation.layout_problems(layout) if p.key != "support_span"]
+    if problems:
+        key = _PARAMETER_NAMES.get(problems[0].key, problems[0].key)
+        if key == "sensor_response" and key not in parameters.values:
+            key = "scan_speed"  # the lag is their product: blame the one this file set
+        if key in parameters.values:
+            raise parameters.error(key, problems[0].message)
+        raise InputError(parameters.source, None, problems[0].message)
 
 
 def used_parameters(layout):
@@ -211,6 +230,17 @@ def parse_commands(text):
 RESULT_COLUMNS = ("slot", "slot_z", "wafer", "in", "out", "diff", "state")
 
 
+def _cell(text):
+    """A table cell: a wafer's label may hold anything, but a tab or a line break in it would
+    make a column or a row of its own (a label ``seq = 9`` would even read as a header line),
+    so backslashes and control characters are written as escapes (``\\t``, ``\\n``, ``\\x1b``)."""
+    if text.isprintable() and "\\" not in text:
+        return text
+    named = {"\\": "\\\\", "\t": "\\t", "\n": "\\n", "\r": "\\r"}
+    return "".join(named.get(c) or (c if c.isprintable() else f"\\x{ord(c):02x}" if ord(c) < 256
+                                    else f"\\u{ord(c):04x}") for c in text)
+
+
 def _mm(x):
     return "" if x is None else f"{x:.3f}"
 
@@ -237,7 +267,8 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
     if result is not None and not error:
         lines += ["", "\t".join(RESULT_COLUMNS)]
         for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
-            lines.append("\t".join((str(slot), _mm(seat), ",".join(wafers) or "-", _mm(z_in),
+            names = _cell(",".join(wafers)) or "-"
+            lines.append("\t".join((str(slot), _mm(seat), names, _mm(z_in),
                                     _mm(z_out), _mm(diff), state)))
     return "\n".join(lines) + "\n"
 

@@ -19,7 +19,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from . import schema
+from . import schema, validation
 from .errors import InputError
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
@@ -256,8 +256,26 @@ def parse_scenario(text, source="<scenario>", folder=None):
 
     wafers = _wafers(reader, data, carriers)
     robot = _robot(reader, data["robot"]) if "robot" in data else None
-    return Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
-                  lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
+    layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
+                    lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
+    _check_layout(reader, layout, len(data.get("wafer", [])))
+    return layout
+
+
+def _check_layout(reader, layout, free_count):
+    """The values together (validation.layout_problems), the first problem named by its table
+    and key. Wafers from load strings come first in the layout, then the [[wafer]] tables."""
+    problems = validation.layout_problems(layout)
+    if not problems:
+        return
+    key, message, index, group = problems[0]
+    if group == "wafer":
+        free = None if index is None else index - (len(layout.wafers) - free_count)
+        if free is not None and free >= 0:
+            raise reader.error(message, "wafer", free, key)
+    elif group is not None:
+        raise reader.error(message, group, index if group == "carrier" else None, key)
+    raise InputError(reader.source, None, message)
 
 
 _ROBOT_KEYS = {"urdf", "base", "base_yaw"}

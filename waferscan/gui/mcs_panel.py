@@ -224,13 +224,15 @@ class McsTaskPanel(ClosableTaskPanel):
         if not folder.is_dir():
             self._show_check(False, f"{folder}: no such folder")
             return False
-        text = self.editor.toPlainText()
+        shown = text = self.editor.toPlainText()
+        if text and not text.endswith("\n"):
+            text += "\n"  # the link takes a last line without its newline as still being written
         try:
             atomic_write_text(folder / PARAMETERS, text)
         except OSError as exc:
             self._show_check(False, f"{folder / PARAMETERS}: cannot write: {exc.strerror or exc}")
             return False
-        self._shown = self._disk = text
+        self._shown, self._disk = shown, text
         App.Console.PrintMessage(f"WaferScan: wrote {folder / PARAMETERS}\n")
         self._show_check(True, f"saved to {folder / PARAMETERS}")
         return True
@@ -245,8 +247,12 @@ class McsTaskPanel(ClosableTaskPanel):
             self._show_state(f"{folder}: no such folder", error=True)
             return False
         self.stop()
-        self.link = McsLink(folder, _guarded(self.doc, document_scanner(self.doc, folder)),
-                            log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
+        try:
+            self.link = McsLink(folder, _guarded(self.doc, document_scanner(self.doc, folder)),
+                                log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
+        except InputError as exc:  # another link (waferscan watch) holds the folder
+            self._show_state(str(exc), error=True)
+            return False
         poll_ms = preferences.POLL_MS if poll_ms is None else poll_ms
         how = []
         if events:
@@ -271,6 +277,7 @@ class McsTaskPanel(ClosableTaskPanel):
             self.watcher.deleteLater()
             self.watcher = None
         if self.link is not None:
+            self.link.close()  # gives the folder's lock back
             App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
         self.link = None
         # FreeCAD deletes the widgets of a panel it closed (the form itself may look alive).

@@ -1,0 +1,200 @@
+"""`waferscan watch` as a process under real faults (issue 10): two watchers on one folder, a
+full disk and a read-only folder (a 64 kB tmpfs, mounted when the tests run as root), --poll
+values, and the memory of the real watcher over many commands (analytic and document
+engines)."""
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+CLI = [sys.executable, "-m", "waferscan.cli"]
+
+
+class Watch:
+    """A ``waferscan watch`` process, its stdout and stderr in files (a pipe nobody reads would
+    fill up and block it)."""
+
+    def __init__(self, folder, *args):
+        self.out = (Path(folder).parent / f"watch-{id(self)}.out").open("w+")
+        self.err = (Path(folder).parent / f"watch-{id(self)}.err").open("w+")
+        self.process = subprocess.Popen([*CLI, "watch", str(folder), *map(str, args)],
+                                        cwd=ROOT, stdout=self.out, stderr=self.err, text=True)
+        self.pid = self.process.pid
+
+    def poll(self):
+        return self.process.poll()
+
+    @property
+    def returncode(self):
+        return self.process.returncode
+
+    def send_signal(self, sig):
+        self.process.send_signal(sig)
+
+    def communicate(self, timeout):
+        self.process.wait(timeout)
+        texts = []
+        for handle in (self.out, self.err):
+            handle.seek(0)
+            texts.append(handle.read())
+            handle.close()
+        return tuple(texts)
+
+
+def watch(folder, *args):
+    return Watch(folder, *args)
+
+
+def run_watch(folder, *args):
+    return subprocess.run([*CLI, "watch", str(folder), *map(str, args)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+
+
+def results_seq(folder):
+    try:
+        match = re.match(r"seq = (\d+)\n", (folder / "results.txt").read_text())
+    except OSError:
+        return None
+    return int(match.group(1)) if match else None
+
+
+def wait_for(predicate, timeout=300.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+@pytest.mark.parametrize("value", ["-1", "nan", "inf", "0", "abc"])
+def test_poll_must_be_a_sensible_number_of_seconds(tmp_path, value):
+    done = run_watch(tmp_path, f"--poll={value}")
+    assert done.returncode == 2
+    assert done.stderr.splitlines()[-1].startswith("waferscan: error: argument --poll: ")
+    assert "Traceback" not in done.stderr
+
+
+def test_two_watchers_started_together_answer_every_seq_exactly_once(tmp_path):
+    count = 2000
+    (tmp_path / "commands.txt").write_text(
+        "".join(f"{seq} {'SCF' if seq % 3 else 'SCS'}\n" for seq in range(1, count + 1)))
+    first, second = watch(tmp_path), watch(tmp_path)
+    try:
+        # Until the last answer is logged (it is logged after results.txt is written).
+        assert wait_for(lambda: any(f"seq {count} " in Path(w.out.name).read_text()
+                                    for w in (first, second))
+                        or (first.poll() is not None and second.poll() is not None))
+    finally:
+        for process in (first, second):
+            if process.poll() is None:
+                process.send_signal(signal.SIGINT)
+        outputs = [process.communicate(timeout=60) for process in (first, second)]
+    codes = sorted(p.returncode for p in (first, second))
+    assert codes == [0, 2], outputs
+    loser = outputs[[first.returncode, second.returncode].index(2)]
+    assert loser[1] == (f"waferscan: error: {tmp_path}: another WaferScan link is watching this "
+                        f"folder (process {first.pid if loser is outputs[1] else second.pid}): "
+                        "one folder, one link (lock .waferscan.lock)\n")
+    answered = [int(m) for out, _ in outputs for m in re.findall(r"^seq (\d+) ", out, re.M)]
+    assert answered == list(range(1, count + 1))  # each once, in order
+    assert results_seq(tmp_path) == count
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 64 kB tmpfs (root only: mount(2) needs it)."""
+    mount = tmp_path / "disk"
+    mount.mkdir()
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(mount)],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {done.stderr.strip()}")
+    yield mount
+    subprocess.run(["umount", "-l", str(mount)], check=True)
+
+
+def test_a_full_disk_is_reported_and_nothing_counts_as_done(small_disk):
+    folder = small_disk
+    (folder / "commands.txt").write_text("1 SCF\n")
+    with open(folder / "filler", "wb") as handle:  # fill the disk to the last block
+        try:
+            while True:
+                handle.write(b"\0" * 1024)
+                handle.flush()
+        except OSError:
+            pass
+    done = run_watch(folder, "--once")
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    assert "cannot write the answer to seq 1: No space left on device; seq 1 stays " \
+           "unanswered" in done.stderr
+    assert not (folder / "results.txt").exists()
+    assert sorted(os.listdir(folder)) in ([".waferscan.lock", "commands.txt", "filler"],
+                                          ["commands.txt", "filler"])
+    os.unlink(folder / "filler")
+    done = run_watch(folder, "--once")
+    assert done.returncode == 0 and results_seq(folder) == 1
+    assert (folder / "history" / "results-00000001.txt").is_file()
+
+
+def test_a_read_only_folder_is_reported_and_the_watcher_keeps_watching(small_disk):
+    folder = small_disk
+    (folder / "commands.txt").write_text("1 SCF\n")
+    subprocess.run(["mount", "-o", "remount,ro", str(folder)], check=True)
+    process = watch(folder, "--poll", "0.05")
+    try:
+        time.sleep(3.0)  # long enough for several polls and retries
+        assert process.poll() is None  # still watching
+    finally:
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    assert process.returncode == 0 and "Traceback" not in err
+    assert "cannot write the answer to seq 1: Read-only file system; seq 1 stays " \
+           "unanswered" in err
+    assert err.count("seq 1 stays unanswered") == 1  # reported once, not at every retry
+    subprocess.run(["mount", "-o", "remount,rw", str(folder)], check=True)
+    done = run_watch(folder, "--once")
+    assert done.returncode == 0 and results_seq(folder) == 1
+
+
+def rss_kib(pid):
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1])
+    raise AssertionError("no VmRSS")
+
+
+@pytest.mark.parametrize("engine, count, limit_kib", [
+    # analytic: before the fix ~6.3 kB a command (every wafer's solid read again)
+    ("analytic", int(os.environ.get("WAFERSCAN_SOAK", "400")), 1.0),
+    # document at z_step 0.5 mm (541 steps): before the fix ~1 kB a step, ~540 kB a command
+    ("document", int(os.environ.get("WAFERSCAN_SOAK_DOCUMENT", "40")), 20.0),
+])
+def test_soak_of_the_real_watcher_memory_flat(tmp_path, engine, count, limit_kib):
+    """RSS of a real ``waferscan watch`` from after its first quarter of commands to the end.
+    Longer: ``WAFERSCAN_SOAK=10000 WAFERSCAN_SOAK_DOCUMENT=300 pytest … -k soak_of_the_real``."""
+    (tmp_path / "parameters.txt").write_text("z_step = 0.5\n")
+    (tmp_path / "commands.txt").write_text("")
+    process = watch(tmp_path, "--engine", engine, "--poll", "0.002")
+    samples = {}
+    try:
+        for seq in range(1, count + 1):
+            with open(tmp_path / "commands.txt", "a") as handle:
+                handle.write(f"{seq} {'SCF' if seq % 2 else 'SCS'}\n")
+            assert wait_for(lambda: f"seq {seq} " in Path(process.out.name).read_text(), 120)
+            if seq in (count // 4, count):
+                samples[seq] = rss_kib(process.pid)
+    finally:
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    assert process.returncode == 0, err
+    assert len(re.findall(r"^seq \d+ \w+: ok ", out, re.M)) == count
+    growth = (samples[count] - samples[count // 4]) / (count - count // 4)
+    assert growth < limit_kib, samples
