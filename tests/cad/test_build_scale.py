@@ -20,11 +20,11 @@ PREFERENCES = "User parameter:BaseApp/Preferences/Document"
 
 @pytest.fixture
 def closing():
-    docs = []
-    yield docs.append
-    for doc in docs:
-        if doc.Name in App.listDocuments():
-            App.closeDocument(doc.Name)
+    names = []
+    yield lambda doc: names.append(doc.Name)
+    for name in names:
+        if name in App.listDocuments():
+            App.closeDocument(name)
 
 
 def test_objects_are_named_after_their_labels(closing):
@@ -89,3 +89,35 @@ def test_a_label_set_after_the_build_is_checked_again(closing):
 def test_view_data_attributes_are_quoted(text):
     element = ElementTree.fromstring(f"<ViewProvider name={_xml_attribute(text)}/>")
     assert element.get("name") == text
+
+
+@pytest.mark.parametrize("before", [None, False])
+def test_layouts_are_saved_with_binary_shapes_and_read_back(closing, tmp_path, before):
+    import zipfile
+
+    from waferscan.cad.layout_files import opened_layout, save_document
+
+    group = App.ParamGet(PREFERENCES)
+    if before is None:
+        group.RemBool("SaveBinaryBrep")
+    else:
+        group.SetBool("SaveBinaryBrep", before)
+    layout = stack_layout(2)
+    doc = build_document(layout, "Binary")
+    closing(doc)
+    path = tmp_path / "binary.FCStd"
+    try:
+        save_document(doc, path)
+        if before is None:
+            assert "SaveBinaryBrep" not in group.GetBools()
+        else:
+            assert group.GetBool("SaveBinaryBrep") is before
+    finally:
+        group.RemBool("SaveBinaryBrep")
+    shapes = [n for n in zipfile.ZipFile(path).namelist() if n.startswith("PartShape")]
+    assert len(shapes) == 50 + 2 + 1 and all(n.endswith(".bin") for n in shapes)
+    App.closeDocument(doc.Name)
+    with opened_layout(path) as reopened:
+        read = read_layout(reopened)
+    assert [(w.name, w.center) for w in read.wafers] == \
+        [(w.name, pytest.approx(w.center, abs=1e-9)) for w in layout.wafers]

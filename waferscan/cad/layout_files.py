@@ -76,6 +76,25 @@ def opened_layout(path):
         App.closeDocument(doc.Name)
 
 
+@contextmanager
+def binary_shapes():
+    """Shapes saved as OpenCASCADE's binary BRep (``.bin``, read by every FreeCAD since 0.17)
+    instead of its text form: a layout of 10,000 wafers and 400 carriers is written in about
+    half the time and opened a little faster. The preference Document/SaveBinaryBrep is put
+    back as it was afterwards."""
+    group = App.ParamGet("User parameter:BaseApp/Preferences/Document")
+    was_set = "SaveBinaryBrep" in group.GetBools()
+    before = group.GetBool("SaveBinaryBrep")
+    group.SetBool("SaveBinaryBrep", True)
+    try:
+        yield
+    finally:
+        if was_set:
+            group.SetBool("SaveBinaryBrep", before)
+        else:
+            group.RemBool("SaveBinaryBrep")
+
+
 def save_document(doc, path):
     """Save the document as ``path`` without ever leaving half a file there: save beside it
     under a temporary name, then rename over."""
@@ -86,7 +105,8 @@ def save_document(doc, path):
         raise InputError(path, None, f"no folder {path.parent}")
     temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
     try:
-        doc.saveAs(str(temporary))
+        with binary_shapes():
+            doc.saveAs(str(temporary))
         if not App.GuiUp:
             _add_view_data(doc, temporary)
         os.replace(temporary, path)
