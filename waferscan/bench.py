@@ -1,22 +1,40 @@
-"""``waferscan bench``: the engines side by side on the same workloads, in one process.
+"""``waferscan bench``: SPEC §9's figures, measured in one run, as a user waits for them.
+
+How it measures:
+- **Interleaved rounds.** What is compared runs in the same rounds, one after the other (the
+  order turned by one each round), and each figure is the median over the rounds; a ratio is
+  the median of the per-round ratios. Load from elsewhere on the machine then falls on both
+  sides alike instead of on whichever block ran during it.
+- **What a user waits for.** ``scan_layout`` end to end (engine, naming of the runs, slot map),
+  the document build and read, whole processes (``waferscan scan``, ``freecadcmd -c``), and the
+  MCS link as an MCS drives it: a ``waferscan watch`` process on a folder, commands appended to
+  its commands.txt, results.txt watched from outside.
+- **Measured, not extrapolated**, with one stated exception: an engine that would take minutes
+  on a workload (``loop`` and ``brep`` at 270,001 positions) runs on every m-th position of the
+  whole travel, which keeps the mix of positions near and far from the wafers, and its time is
+  scaled by the number of positions (marked ``sampled``). Cutting the travel short instead
+  would change which wafers the accessibility check keeps, and under-report.
+- Every engine's stepped result is checked equal to ``analytic``'s on what it ran.
 
 Workloads:
-- ``paper``: the paper's experiment (SPEC §8), every engine, the document engines through a
-  FreeCAD document with the robot;
-- ``fab``: four FOUPs of 25 wafers side by side at the 505 mm load-port pitch, scanning one of
-  them at 0.001 mm steps (270,001 positions);
+- ``paper``: the paper's experiment (SPEC §8), the document engines through a FreeCAD document
+  with the robot;
+- ``fab``: four FOUPs of 25 wafers side by side at the 505 mm load-port pitch, scanning the
+  first at 0.001 mm steps (270,001 positions); ``fab-steps``: the same at other steps;
 - ``steps``: the paper's layout at 10^3 ... 10^6 positions;
-- ``wafers``: 25 ... 2,500 wafers (1 ... 100 full FOUPs) at the paper's steps.
-
-Every run's stepped results are checked equal to ``analytic``'s. Times are the median of several
-repeats. An engine too slow for a workload runs on a subset of its steps and is extrapolated to
-the whole, and marked so.
+- ``wafers``: 100 ... 10,000 wafers as a *stack* of FOUPs one above the other (the beam meets
+  every wafer: 10,000 runs to name) and as a *row* of FOUPs side by side (25 in the beam's
+  reach), in process; and ``waferscan layout`` + ``waferscan scan`` of the stack as processes;
+- ``startup``: a headless scan of a saved layout against ``freecadcmd -c "import Part, numpy"``;
+- ``mcs``: latency, idle cost against the length of commands.txt, memory over a soak.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import random
+import re
 import shutil
 import statistics
 import subprocess
@@ -27,10 +45,17 @@ from dataclasses import replace
 from pathlib import Path
 
 from .core.engines import run_engine
-from .core.scenario import read_scenario, seated_wafers
+from .core.mcs import COMMANDS, RESULTS
+from .core.scan import scan_layout
+from .core.scenario import parse_scenario, read_scenario, seated_wafers
 
 LOAD_PORT_PITCH = 505.0  # mm between neighbouring load ports (SEMI E15)
+STACK_PITCH = 300.0  # mm between the slot 1 seats of FOUPs stacked one above the other
+PACKAGE_ROOT = Path(__file__).resolve().parent.parent
+_SEQ = re.compile(r"^seq = (\d+)\s*$", re.MULTILINE)
 
+
+# --- Workloads ----------------------------------------------------------------------------
 
 def paper_layout(path):
     return read_scenario(path)
@@ -50,116 +75,260 @@ def fab_layout(paper, foups=4, z_step=0.001):
                    robot=None, scan=replace(paper.scan, z_step=z_step))
 
 
+def stack_scenario(foups, z_step=0.05):
+    """Scenario text: ``foups`` full 25-slot FOUPs stacked ``STACK_PITCH`` apart (a stocker's
+    shelves), the paper's beam scanning all of them, so every wafer makes a run of its own."""
+    top = 293.94 + (foups - 1) * STACK_PITCH + 260.0
+    lines = ["[scan]", 'carrier = "S1"', "start_z = 280.0", f"final_z = {top:.2f}",
+             f"z_step = {z_step}", "[sensor]", "emitter = [-80.0, 266.6, 280.0]",
+             "direction = [1.0, 0.0, 0.0]", "length = 160.0"]
+    for index in range(foups):
+        lines += ["[[carrier]]", f'name = "S{index + 1}"', "slots = 25", "pitch = 10.0",
+                  f"first_slot_z = {293.94 + index * STACK_PITCH:.2f}", "center = [0.0, 400.0]",
+                  "wafer_diameter = 300.0", "wafer_thickness = 0.7", "support_span = 292.5",
+                  'load = "' + "1" * 25 + '"']
+    return "\n".join(lines) + "\n"
+
+
+def stack_layout(foups):
+    return parse_scenario(stack_scenario(foups), "<stack>")
+
+
 def with_positions(layout, count):
     """The layout with its travel cut into ``count`` positions."""
     travel = layout.scan.final_z - layout.scan.start_z
     return layout.with_scan(z_step=travel / (count - 1))
 
 
-def _time(function, repeats):
-    times, result = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
+def sampled(layout, every):
+    """Every ``every``-th position of the layout's scan, over the whole travel."""
+    return layout.with_scan(z_step=layout.scan.z_step * every)
 
 
-def _subset(layout, positions):
-    """The first ``positions`` steps of the layout's scan."""
-    scan = layout.scan
-    return layout.with_scan(final_z=scan.start_z + (positions - 1) * scan.z_step)
+# --- Timing -------------------------------------------------------------------------------
+
+def interleaved(tasks, rounds, batch=None):
+    """Run each of ``tasks`` (name -> callable) once a round, in turn, the order turned by one
+    each round. ``batch[name]`` calls a quick task that many times in a row and counts the mean,
+    below the timer's and the scheduler's noise. Returns ({name: [seconds per round]},
+    {name: last result})."""
+    batch = batch or {}
+    names = list(tasks)
+    times = {name: [] for name in names}
+    results = {}
+    for index in range(rounds):
+        turn = index % len(names)
+        for name in names[turn:] + names[:turn]:
+            calls = batch.get(name, 1)
+            start = time.perf_counter()
+            for _ in range(calls):
+                results[name] = tasks[name]()
+            times[name].append((time.perf_counter() - start) / calls)
+    return times, results
 
 
-def run_core(workload, layout, engine, repeats=5, budget_positions=None, reference=None):
-    """Time a core engine; with ``budget_positions`` it runs on that many steps only and the
-    time is scaled to the whole. Checks the result against ``reference`` when whole."""
-    positions = layout.scan.position_count
-    partial = budget_positions is not None and budget_positions < positions
-    target = _subset(layout, budget_positions) if partial else layout
-    seconds, hits = _time(lambda: run_engine(engine, target), repeats)
-    if partial:
-        reference_part = run_engine("analytic", target)
-        assert hits == reference_part, f"{engine} differs from analytic on {workload}"
-        seconds *= positions / target.scan.position_count
-    elif reference is not None:
-        assert hits == reference, f"{engine} differs from analytic on {workload}"
-    return {"workload": workload, "engine": engine, "steps": positions,
-            "wafers": len(layout.wafers), "seconds": seconds, "extrapolated": partial}
+def median_ratio(numerator, denominator):
+    """Median over rounds of numerator / denominator, round by round."""
+    return statistics.median(a / b for a, b in zip(numerator, denominator))
 
 
-def run_document(workload, scenario_path, engine, repeats=3, budget_positions=None):
-    """Time a document engine on the scenario built into a FreeCAD document (robot included).
-    The ``brep`` engine runs on the first ``budget_positions`` steps and is extrapolated."""
+def row(workload, engine, layout, times, sampled_steps=None, **extra):
+    """One result row; ``seconds`` is the median over the rounds."""
+    steps = layout.scan.position_count
+    seconds = statistics.median(times)
+    if sampled_steps is not None:
+        seconds *= steps / sampled_steps
+    return {"workload": workload, "engine": engine, "steps": steps, "wafers": len(layout.wafers),
+            "seconds": seconds, "rounds": len(times), "sampled_steps": sampled_steps,
+            "extrapolated": sampled_steps is not None, **extra}
+
+
+def _check(result, reference, what):
+    if result != reference:
+        raise AssertionError(f"{what} differs from analytic")
+
+
+# --- In-process workloads -----------------------------------------------------------------
+
+def bench_paper(scenario_path, rounds, add):
+    """The paper: analytic, vector and loop (engine calls and scan_layout end to end), and the
+    document and brep engines through a FreeCAD document with the robot, interleaved."""
     import FreeCAD as App
 
     from .cad.document_scan import scan_document
     from .cad.layout_files import open_layout
-    from .core.mcs import Parameters
-
-    doc = open_layout(scenario_path)
-    try:
-        full = scan_document(doc, "analytic")
-        positions = full.layout.scan.position_count
-        parameters = None
-        if budget_positions is not None and budget_positions < positions:
-            scan = full.layout.scan
-            final = scan.start_z + (budget_positions - 1) * scan.z_step
-            parameters = Parameters({"final_z": final}, {}, "bench")
-        seconds, result = _time(lambda: scan_document(doc, engine, parameters=parameters),
-                                repeats)
-        reference = scan_document(doc, "analytic", parameters=parameters)
-        assert [(r.z_in, r.z_out) for r in result.runs] == \
-            [(r.z_in, r.z_out) for r in reference.runs], f"{engine} differs from analytic"
-        done = result.layout.scan.position_count
-        return {"workload": workload, "engine": engine, "steps": positions,
-                "wafers": len(full.layout.wafers), "seconds": seconds * positions / done,
-                "extrapolated": done < positions}
-    finally:
-        App.closeDocument(doc.Name)
-
-
-def run_bench(scenario_path, quick=False, progress=print):
-    """All workloads; returns the list of result rows."""
-    rows = []
-
-    def add(row):
-        rows.append(row)
-        progress(row)
 
     paper = paper_layout(scenario_path)
     reference = run_engine("analytic", paper)
-    for engine in ("analytic", "vector", "loop"):
-        add(run_core("paper", paper, engine, repeats=3 if engine == "loop" else 7,
-                     reference=reference))
-    add(run_document("paper", scenario_path, "document", repeats=1 if quick else 3))
-    add(run_document("paper", scenario_path, "brep", repeats=1,
-                     budget_positions=1000 if quick else 2000))
+    doc = open_layout(scenario_path)
+    try:
+        tasks = {
+            "analytic": lambda: run_engine("analytic", paper),
+            "vector": lambda: run_engine("vector", paper),
+            "loop": lambda: run_engine("loop", paper),
+            "analytic scan_layout": lambda: scan_layout(paper, "analytic"),
+            "loop scan_layout": lambda: scan_layout(paper, "loop"),
+            "document": lambda: scan_document(doc, "document"),
+            "brep": lambda: scan_document(doc, "brep"),
+        }
+        times, results = interleaved(tasks, rounds,
+                                     batch={"analytic": 50, "analytic scan_layout": 50})
+        expected = [(r.z_in, r.z_out) for r in scan_document(doc, "analytic").runs]
+    finally:
+        App.closeDocument(doc.Name)
+    for name in ("analytic", "vector", "loop"):
+        _check(results[name], reference, f"{name} on the paper")
+    for name in ("document", "brep", "loop scan_layout"):
+        if [(r.z_in, r.z_out) for r in results[name].runs] != expected:
+            raise AssertionError(f"{name} differs from analytic on the paper")
+    for name in tasks:
+        add(row("paper", name, paper, times[name]))
+    return {"loop/analytic": median_ratio(times["loop"], times["analytic"]),
+            "loop/analytic scan_layout": median_ratio(times["loop scan_layout"],
+                                                      times["analytic scan_layout"])}
+
+
+def bench_fab(paper, rounds, add, loop_every=100, brep_every=100):
+    """Four FOUPs at 0.001 mm: scan_layout end to end, vector in full, loop and per-step brep
+    sampled over the whole travel; scan_layout at other steps (flat?)."""
+    import FreeCAD as App
+
+    from .cad.builder import build_document
+    from .cad.document_scan import scan_document
+    from .core.mcs import Parameters
 
     fab = fab_layout(paper)
-    fab_reference = run_engine("analytic", fab)
-    add(run_core("fab", fab, "analytic", repeats=21, reference=fab_reference))
-    add(run_core("fab", fab, "vector", repeats=1, budget_positions=None if not quick else 20_000,
-                 reference=fab_reference))
-    add(run_core("fab", fab, "loop", repeats=1, budget_positions=2_000))
+    reference = run_engine("analytic", fab)
+    loop_part = sampled(fab, loop_every)
+    loop_reference = run_engine("analytic", loop_part)
+    brep_step = fab.scan.z_step * brep_every
+    doc = build_document(fab, name="BenchFab")
+    try:
+        brep_parameters = Parameters({"z_step": brep_step}, {}, "bench")
+        brep_expected = [(r.z_in, r.z_out) for r in
+                         scan_document(doc, "analytic", parameters=brep_parameters).runs]
+        tasks = {"analytic scan_layout": lambda: scan_layout(fab, "analytic"),
+                 "vector": lambda: run_engine("vector", fab),
+                 "loop": lambda: run_engine("loop", loop_part),
+                 "brep": lambda: scan_document(doc, "brep", parameters=brep_parameters)}
+        times, results = interleaved(tasks, rounds, batch={"analytic scan_layout": 20})
+    finally:
+        App.closeDocument(doc.Name)
+    _check(results["vector"], reference, "vector on fab")
+    _check(results["loop"], loop_reference, "loop on fab")
+    brep = results["brep"]
+    if [(r.z_in, r.z_out) for r in brep.runs] != brep_expected:
+        raise AssertionError("brep differs from analytic on fab")
+    add(row("fab", "analytic scan_layout", fab, times["analytic scan_layout"]))
+    add(row("fab", "vector", fab, times["vector"]))
+    add(row("fab", "loop", fab, times["loop"], sampled_steps=loop_part.scan.position_count))
+    add(row("fab", "brep", fab, times["brep"],
+            sampled_steps=brep.layout.scan.position_count))
 
-    step_counts = (1_000, 10_000, 100_000) if quick else (1_000, 10_000, 100_000, 1_000_000)
-    for count in step_counts:
+    # Flat in the steps: the same scan at 5,401 ... 2,700,001 positions.
+    steps = (0.05, 0.005, 0.001, 0.0001)
+    layouts = {z: fab.with_scan(z_step=z) for z in steps}
+    times, _ = interleaved({z: (lambda lay=lay: scan_layout(lay, "analytic"))
+                            for z, lay in layouts.items()}, max(5, rounds),
+                           batch={z: 20 for z in steps})
+    for z in steps:
+        add(row("fab-steps", "analytic scan_layout", layouts[z], times[z], z_step=z))
+
+
+def vector_peak_memory(paper):
+    """Peak memory (bytes, numpy's allocations traced) of the vector engine on the fab
+    workload."""
+    import tracemalloc
+
+    fab = fab_layout(paper)
+    tracemalloc.start()
+    try:
+        run_engine("vector", fab)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def bench_steps(paper, counts, rounds, add, loop_measured_up_to=10_000):
+    """The paper's layout at more and more positions: analytic and vector measured in full,
+    loop in full up to ``loop_measured_up_to`` positions and sampled beyond."""
+    for count in counts:
         layout = with_positions(paper, count)
-        ref = run_engine("analytic", layout)
-        add(run_core("steps", layout, "analytic", repeats=9, reference=ref))
-        add(run_core("steps", layout, "vector", repeats=1 if count > 10_000 else 3,
-                     budget_positions=None if count <= 100_000 else 100_000, reference=ref))
-        add(run_core("steps", layout, "loop", repeats=1, budget_positions=min(count, 2_000),
-                     reference=ref if count <= 2_000 else None))
-    foup_counts = (1, 4, 10) if quick else (1, 4, 10, 40, 100)
+        reference = run_engine("analytic", layout)
+        every = max(1, count // loop_measured_up_to)
+        loop_part = sampled(layout, every) if every > 1 else layout
+        tasks = {"analytic": lambda lay=layout: run_engine("analytic", lay),
+                 "vector": lambda lay=layout: run_engine("vector", lay),
+                 "loop": lambda lay=loop_part: run_engine("loop", lay)}
+        times, results = interleaved(tasks, rounds, batch={"analytic": 20})
+        _check(results["vector"], reference, f"vector at {count} positions")
+        _check(results["loop"], run_engine("analytic", loop_part), f"loop at {count} positions")
+        add(row("steps", "analytic", layout, times["analytic"]))
+        add(row("steps", "vector", layout, times["vector"]))
+        add(row("steps", "loop", layout, times["loop"],
+                sampled_steps=loop_part.scan.position_count if every > 1 else None))
+
+
+def bench_wafers(paper, foup_counts, rounds, build_up_to, add):
+    """scan_layout against the number of wafers, stacked and in a row, interleaved; the
+    document build and read (in process) of the stack."""
+    import FreeCAD as App
+
+    from .cad.builder import build_document
+    from .cad.reader import read_layout
+
+    layouts = {}
     for foups in foup_counts:
-        layout = fab_layout(paper, foups=foups, z_step=paper.scan.z_step)
-        ref = run_engine("analytic", layout)
-        add(run_core("wafers", layout, "analytic", repeats=5, reference=ref))
-        add(run_core("wafers", layout, "vector", repeats=1, reference=ref))
-        add(run_core("wafers", layout, "loop", repeats=1, budget_positions=500))
-    return rows
+        layouts[("stack", foups)] = stack_layout(foups)
+        layouts[("row", foups)] = fab_layout(paper, foups=foups, z_step=paper.scan.z_step)
+    tasks = {key: (lambda lay=lay: scan_layout(lay, "analytic")) for key, lay in layouts.items()}
+    times, results = interleaved(tasks, rounds)
+    for (kind, foups), layout in layouts.items():
+        if kind == "stack" and len(results[(kind, foups)].runs) != 25 * foups:
+            raise AssertionError(f"the stack of {foups} FOUPs gave "
+                                 f"{len(results[(kind, foups)].runs)} runs")
+        add(row("wafers", f"analytic scan_layout ({kind})", layout, times[(kind, foups)]))
+    for foups in foup_counts:
+        if 25 * foups > build_up_to:
+            continue
+        layout = layouts[("stack", foups)]
+        start = time.perf_counter()
+        doc = build_document(layout, name="BenchStack")
+        built = time.perf_counter()
+        read = read_layout(doc)
+        done = time.perf_counter()
+        App.closeDocument(doc.Name)
+        if len(read.wafers) != len(layout.wafers):
+            raise AssertionError("the stack's document lost wafers")
+        add(row("wafers", "document build", layout, [built - start]))
+        add(row("wafers", "document read", layout, [done - built]))
+
+
+# --- Processes ----------------------------------------------------------------------------
+
+def _environment():
+    """The environment of the processes the bench starts: this checkout's package first, so
+    that they run the code being measured."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(PACKAGE_ROOT),
+                                                    env.get("PYTHONPATH")) if p)
+    return env
+
+
+def cli(*args):
+    """The ``waferscan`` command as a process (this interpreter, this checkout)."""
+    return [sys.executable, "-m", "waferscan.cli", *map(str, args)]
+
+
+def _run(command, timeout=600):
+    start = time.perf_counter()
+    done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                          env=_environment(), timeout=timeout)
+    seconds = time.perf_counter() - start
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed ({done.returncode}): "
+                           f"{done.stderr.decode(errors='replace')[-500:]}")
+    return seconds
 
 
 def saved_layout(scenario_path, folder):
@@ -177,31 +346,207 @@ def saved_layout(scenario_path, folder):
     return path
 
 
-def _command_seconds(command, repeats):
-    times = []
-    for _ in range(repeats):
+def bench_startup(layout_path, paper, rounds, add):
+    """`waferscan scan LAYOUT.FCStd` and README's `freecadcmd -c` form against
+    `freecadcmd -c "import Part, numpy"`, process to process, interleaved."""
+    script = (f"import sys, waferscan.cli as c; "
+              f"sys.exit(c.main(['scan', {str(layout_path)!r}, '--json']))")
+    commands = {"freecadcmd import Part, numpy": ["freecadcmd", "-c", "import Part, numpy"],
+                "waferscan scan": cli("scan", layout_path),
+                "freecadcmd -c waferscan scan": ["freecadcmd", "-c", script]}
+    times, _ = interleaved({name: (lambda c=command: _run(c)) for name, command in
+                            commands.items()}, rounds)
+    for name in commands:
+        add(row("startup", name, paper, [t for t in times[name]]))
+
+
+def bench_processes(folder, foup_counts, add):
+    """`waferscan layout` then `waferscan scan` of a stack of FOUPs, as processes."""
+    for foups in foup_counts:
+        scenario = Path(folder) / f"stack-{foups}.toml"
+        scenario.write_text(stack_scenario(foups), encoding="utf-8")
+        target = Path(folder) / f"stack-{foups}.FCStd"
+        layout = stack_layout(foups)
+        add(row("wafers", "waferscan layout", layout, [_run(cli("layout", scenario, "-o",
+                                                                 target))]))
+        add(row("wafers", "waferscan scan", layout, [_run(cli("scan", target))]))
+        target.unlink()
+
+
+# --- The MCS link, driven from outside ----------------------------------------------------
+
+class Watcher:
+    """A ``waferscan watch`` process on a folder, as an MCS site runs it."""
+
+    def __init__(self, folder, layout_path):
+        self.folder = Path(folder)
+        self.process = subprocess.Popen(cli("watch", folder, "--layout", layout_path),
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                        env=_environment(), start_new_session=True)
+
+    def cpu_seconds(self):
+        """CPU time of all the process's threads (the scheduler's nanosecond count)."""
+        total = 0
+        for task in Path(f"/proc/{self.process.pid}/task").iterdir():
+            try:
+                total += int((task / "schedstat").read_text().split()[0])
+            except (OSError, ValueError, IndexError):
+                pass  # a thread that just ended
+        return total / 1e9
+
+    def rss_bytes(self):
+        for line in Path(f"/proc/{self.process.pid}/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) * 1024
+        return None
+
+    def alive(self):
+        return self.process.poll() is None
+
+    def stop(self):
+        self.process.terminate()
+        try:
+            self.process.wait(10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+
+def answered(folder):
+    """The seq results.txt answers now, or None."""
+    try:
+        match = _SEQ.search((Path(folder) / RESULTS).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError):
+        return None
+    return int(match.group(1)) if match else None
+
+
+def append_commands(folder, lines):
+    """Append whole lines to commands.txt, as an MCS does."""
+    with open(Path(folder) / COMMANDS, "a", encoding="utf-8", newline="\n") as handle:
+        handle.write("".join(f"{line}\n" for line in lines))
+
+
+def wait_answer(folder, seq, watcher, timeout=120.0):
+    """Wait until results.txt answers ``seq``: its file is looked at every 0.5 ms, and read only
+    when it was replaced. Returns the time it was seen (perf_counter)."""
+    path = Path(folder) / RESULTS
+    deadline = time.perf_counter() + timeout
+    seen = None
+    while True:
+        try:
+            stat = path.stat()
+            mark = (stat.st_ino, stat.st_mtime_ns, stat.st_size)
+        except FileNotFoundError:
+            mark = None
+        if mark is not None and mark != seen:
+            seen = mark
+            got = answered(folder)
+            if got is not None and got >= seq:
+                return time.perf_counter()
+        if time.perf_counter() > deadline or not watcher.alive():
+            raise RuntimeError(f"no answer to seq {seq} in {folder} within {timeout:.0f} s")
+        time.sleep(0.0005)
+
+
+def mcs_latency(layout_path, count, seed=1):
+    """Command appended -> results.txt replaced, ``count`` times, each append at a random
+    moment (0-150 ms after the last answer) so that every phase of a poll is met. Seconds."""
+    chance = random.Random(seed)
+    with tempfile.TemporaryDirectory() as folder:
+        watcher = Watcher(folder, layout_path)
+        try:
+            append_commands(folder, ["1 SCF"])
+            wait_answer(folder, 1, watcher)  # start-up and the first scan: not counted
+            samples = []
+            for seq in range(2, count + 2):
+                time.sleep(chance.uniform(0.0, 0.15))
+                append_commands(folder, [f"{seq} SCF"])
+                start = time.perf_counter()
+                samples.append(wait_answer(folder, seq, watcher) - start)
+        finally:
+            watcher.stop()
+    return samples
+
+
+def _answered_history(folder, layout_path, lines):
+    """A folder whose commands.txt holds ``lines`` commands, every one answered: the last is
+    answered by `waferscan watch --once`, then commands.txt gets the earlier ones written in
+    front (replaced by rename, as an MCS may) -- a watcher restarted on a long-used folder."""
+    append_commands(folder, [f"{lines} SCF"])
+    _run(cli("watch", folder, "--layout", layout_path, "--once"))
+    if answered(folder) != lines:
+        raise RuntimeError(f"watch --once did not answer seq {lines}")
+    temporary = Path(folder) / ".commands.bench.tmp"
+    temporary.write_text("".join(f"{seq} SCF\n" for seq in range(1, lines + 1)),
+                         encoding="utf-8")
+    os.replace(temporary, Path(folder) / COMMANDS)
+
+
+def mcs_idle(layout_path, lines, seconds, settle=3.0):
+    """CPU seconds a second that an idle watcher spends on a folder with ``lines`` answered
+    commands, over ``seconds``, after ``settle`` seconds for its start-up."""
+    with tempfile.TemporaryDirectory() as folder:
+        _answered_history(folder, layout_path, lines)
+        watcher = Watcher(folder, layout_path)
+        try:
+            time.sleep(settle)
+            cpu0, wall0 = watcher.cpu_seconds(), time.perf_counter()
+            time.sleep(seconds)
+            cpu1, wall1 = watcher.cpu_seconds(), time.perf_counter()
+            if not watcher.alive():
+                raise RuntimeError("the watcher ended while idle")
+            if answered(folder) != lines:
+                raise RuntimeError(f"an idle watcher answered again ({answered(folder)})")
+        finally:
+            watcher.stop()
+    return (cpu1 - cpu0) / (wall1 - wall0)
+
+
+def mcs_soak(layout_path, commands, batch=100):
+    """``commands`` SCF commands appended ``batch`` at a time, each batch waited for; the
+    watcher's resident memory after each. Returns a dict of the figures."""
+    with tempfile.TemporaryDirectory() as folder:
+        watcher = Watcher(folder, layout_path)
+        samples = []  # (commands answered, RSS bytes)
         start = time.perf_counter()
-        subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+        try:
+            for first in range(1, commands + 1, batch):
+                last = min(commands, first + batch - 1)
+                append_commands(folder, [f"{seq} SCF" for seq in range(first, last + 1)])
+                wait_answer(folder, last, watcher, timeout=600.0)
+                samples.append((last, watcher.rss_bytes()))
+        finally:
+            watcher.stop()
+        seconds = time.perf_counter() - start
+    warm = samples[0]
+    growth = samples[-1][1] - warm[1]
+    return {"commands": commands, "seconds": seconds, "rss_after_first_batch": warm[1],
+            "rss_end": samples[-1][1], "growth_bytes": growth,
+            "growth_per_command_bytes": growth / max(1, samples[-1][0] - warm[0]),
+            "samples": samples}
 
 
-def startup(layout_path, steps, wafers, repeats=7):
-    """Headless `waferscan scan LAYOUT.FCStd` against `freecadcmd -c "import Part, numpy"`,
-    the floor of any FreeCAD script that touches solids and arrays."""
-    script = Path(sys.executable).with_name("waferscan")
-    scan = [str(script)] if script.exists() else [sys.executable, "-m", "waferscan.cli"]
-    rows = []
-    for engine, command in (("freecadcmd import Part, numpy",
-                             ["freecadcmd", "-c", "import Part, numpy"]),
-                            ("waferscan scan", scan + ["scan", str(layout_path)])):
-        rows.append({"workload": "startup", "engine": engine, "steps": steps, "wafers": wafers,
-                     "seconds": _command_seconds(command, repeats), "extrapolated": False})
-    return rows
+def bench_mcs(layout_path, quick, histories, add):
+    """The SPEC §9 MCS figures, measured on `waferscan watch` processes."""
+    latency = mcs_latency(layout_path, 20 if quick else 200)
+    ordered = sorted(latency)
+    p99 = ordered[min(len(ordered) - 1, int(round(0.99 * (len(ordered) - 1))))]
+    idle = {}
+    for lines in histories:
+        idle[lines] = mcs_idle(layout_path, lines, 2.0 if quick else 5.0)
+        add({"workload": "mcs", "engine": "watch idle (CPU s per s)", "steps": None,
+             "wafers": None, "history": lines, "seconds": idle[lines], "rounds": 1,
+             "sampled_steps": None, "extrapolated": False})
+    soak = mcs_soak(layout_path, 300 if quick else 10_000)
+    return {"latency_samples": latency, "latency_median": statistics.median(latency),
+            "latency_p99": p99, "idle_cpu_per_second": idle, "soak": soak}
 
+
+# --- GUI ----------------------------------------------------------------------------------
 
 def gui_animation(layout_path, seconds=3.0):
-    """Placement updates a second, and the longest stall, of the robot stepping through the
+    """Placement updates a second, and the longest stall, of the GUI's scan animation on the
     layout in a real FreeCAD GUI (under Xvfb when there is no display). None without FreeCAD's
     GUI or Xvfb."""
     freecad = shutil.which("freecad")
@@ -225,43 +570,212 @@ def gui_animation(layout_path, seconds=3.0):
     return result
 
 
-def format_rows(rows):
-    lines = [f"{'workload':<9} {'engine':<9} {'steps':>9} {'wafers':>7} {'seconds':>12}"]
+# --- The whole run ------------------------------------------------------------------------
+
+def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print):
+    """Every workload; returns the report (a JSON-able dict): ``results`` (rows), ``ratios``,
+    ``memory``, ``mcs``, ``gui_animation`` and ``contract``."""
+    rows = []
+
+    def add(entry):
+        rows.append(entry)
+        progress(entry)
+
+    rounds = 3 if quick else 9
+    paper = paper_layout(scenario_path)
+    report = {"quick": quick, "results": rows}
+    report["ratios"] = bench_paper(scenario_path, rounds, add)
+    bench_fab(paper, 1 if quick else 3, add)
+    report["memory"] = {"vector_fab_peak_bytes": vector_peak_memory(paper)}
+    bench_steps(paper, (1_000, 10_000, 100_000) if quick else
+                (1_000, 10_000, 100_000, 1_000_000), 1 if quick else 3, add)
+    foups = (4, 40, 400) if quick else (4, 12, 40, 120, 400)
+    bench_wafers(paper, foups, 3 if quick else 5, 1_000 if quick else 10_000, add)
+    with tempfile.TemporaryDirectory() as folder:
+        bench_processes(folder, (4, 40) if quick else (4, 40, 400), add)
+        layout_path = saved_layout(scenario_path, folder)
+        bench_startup(layout_path, paper, 3 if quick else 7, add)
+        report["mcs"] = (bench_mcs(layout_path, quick, (10, 100_000) if quick else
+                                   (10, 1_000, 10_000, 100_000), add) if mcs else None)
+        report["gui_animation"] = gui_animation(layout_path) if gui else None
+    report["contract"] = [{"met": met, "figure": text} for met, text in contract(report)]
+    return report
+
+
+def format_row(r):
+    """One line of the bench's table."""
+    if r["workload"] == "mcs":
+        return (f"{r['workload']:<9} {r['engine']:<32} {r['history']:>9,} lines "
+                f"{r['seconds'] * 1000:>10.3f} ms/s")
+    mark = f"  (sampled: {r['sampled_steps']:,} positions)" if r["sampled_steps"] else ""
+    return (f"{r['workload']:<9} {r['engine']:<32} {r['steps']:>9,} steps "
+            f"{r['wafers']:>6,} wafers {r['seconds']:>11.6f} s{mark}")
+
+
+def _find(rows, workload, engine, wafers=None, steps=None):
     for r in rows:
-        mark = "  (extrapolated)" if r["extrapolated"] else ""
-        lines.append(f"{r['workload']:<9} {r['engine']:<9} {r['steps']:>9} {r['wafers']:>7} "
-                     f"{r['seconds']:>12.6f}{mark}")
-    return "\n".join(lines)
+        if (r["workload"], r["engine"]) == (workload, engine) and \
+                (wafers is None or r["wafers"] == wafers) and (steps is None or r["steps"] == steps):
+            return r["seconds"]
+    return None
 
 
-def contract(rows, gui=None):
-    """SPEC §9's figures from the rows (and the GUI measurement): list of (met, text)."""
-    def seconds(workload, engine, steps=None, wafers=None):
-        for r in rows:
-            if (r["workload"], r["engine"]) == (workload, engine) and \
-                    (steps is None or r["steps"] == steps) and \
-                    (wafers is None or r["wafers"] == wafers):
-                return r["seconds"]
-        return None
+IDLE_SAME_RATIO = 1.5  # idle cost at 100,000 lines within this factor of that at 10 ...
+IDLE_NOISE = 0.0005  # ... or within this many CPU seconds a second of it (the noise floor)
 
-    ratio = seconds("paper", "loop") / seconds("paper", "analytic")
-    fab = seconds("fab", "analytic")
-    flat = [r["seconds"] for r in rows if (r["workload"], r["engine"]) == ("steps", "analytic")]
-    spread = max(flat) / min(flat)
-    floor = seconds("startup", "freecadcmd import Part, numpy")
-    scan = seconds("startup", "waferscan scan")
-    checks = [(ratio >= 200, f"analytic is {ratio:,.0f}x faster than loop on the paper "
-                           "(>= 200x), identical results"),
-            (fab <= 0.005, f"fab (4 FOUPs x 25 wafers, 270,001 positions): analytic "
-                           f"{fab * 1000:.2f} ms (<= 5 ms)"),
-            (spread < 2.0, f"analytic from 10^3 to {max(r['steps'] for r in rows if r['workload'] == 'steps'):,} "
-                           f"positions: slowest / fastest = {spread:.2f} (flat)")]
-    if floor is not None and scan is not None:
-        checks.append((scan <= 1.2 * floor, f"headless waferscan scan of a saved layout: "
-                                            f"{scan:.3f} s = {scan / floor:.2f}x freecadcmd -c "
-                                            f"\"import Part, numpy\" ({floor:.3f} s) (<= 1.2x)"))
+
+def contract(report):
+    """SPEC §9, figure by figure: a list of (met, text), met None where not measured."""
+    rows = report["results"]
+    checks = []
+    ratios = report.get("ratios") or {}
+    if "loop/analytic" in ratios:
+        ratio, end_to_end = ratios["loop/analytic"], ratios["loop/analytic scan_layout"]
+        checks.append((ratio >= 1000, f"analytic vs loop on the paper: {ratio:,.0f}x (>= 1,000x, "
+                                      f"median of interleaved rounds), identical results; "
+                                      f"scan_layout end to end {end_to_end:,.0f}x"))
+    fab = _find(rows, "fab", "analytic scan_layout")
+    brep = _find(rows, "fab", "brep")
+    if fab is not None and brep is not None:
+        checks.append((brep / fab >= 100_000,
+                       f"analytic vs per-step brep on fab: {brep / fab:,.0f}x (>= 100,000x; "
+                       "brep sampled over the whole travel)"))
+    if fab is not None:
+        checks.append((fab <= 0.005, f"fab (4 FOUPs x 25 wafers, 270,001 positions): "
+                                     f"scan_layout {fab * 1000:.2f} ms (<= 5 ms)"))
+    flat = [r["seconds"] for r in rows if r["workload"] == "fab-steps"]
+    if flat:
+        spread = max(flat) / min(flat)
+        checks.append((spread < 2.0, f"fab scan_layout from 5,401 to 2,700,001 positions: "
+                                     f"slowest / fastest = {spread:.2f} (flat: < 2)"))
+    small = _find(rows, "wafers", "analytic scan_layout (stack)", wafers=1_000)
+    large = _find(rows, "wafers", "analytic scan_layout (stack)", wafers=10_000)
+    if small and large:
+        checks.append((large <= 20 * small,
+                       f"scan_layout of 10,000 wafers (400 stacked FOUPs, every wafer hit) "
+                       f"{large:.3f} s = {large / small:.1f}x 1,000 wafers' {small:.4f} s "
+                       f"(<= 20x)"))
+    built = _find(rows, "wafers", "waferscan layout", wafers=10_000)
+    scanned = _find(rows, "wafers", "waferscan scan", wafers=10_000)
+    if built is not None and scanned is not None:
+        checks.append((built + scanned <= 20.0,
+                       f"waferscan layout + scan of 10,000 wafers: {built:.1f} s + "
+                       f"{scanned:.1f} s = {built + scanned:.1f} s (<= 20 s)"))
+    else:
+        checks.append((None, "waferscan layout + scan of 10,000 wafers: not measured "
+                             "(--quick goes to 1,000)"))
+    floor = _find(rows, "startup", "freecadcmd import Part, numpy")
+    for name, what in (("waferscan scan", "waferscan scan LAYOUT.FCStd"),
+                       ("freecadcmd -c waferscan scan", "freecadcmd -c \"... c.main(['scan', "
+                                                         "LAYOUT.FCStd])\"")):
+        seconds = _find(rows, "startup", name)
+        if floor and seconds:
+            checks.append((seconds <= 1.2 * floor,
+                           f"headless {what}: {seconds:.3f} s = {seconds / floor:.2f}x "
+                           f"freecadcmd -c \"import Part, numpy\" ({floor:.3f} s) (<= 1.2x)"))
+    mcs = report.get("mcs")
+    if mcs:
+        p99 = mcs["latency_p99"]
+        checks.append((p99 <= 0.05, f"MCS link: command appended -> results.txt replaced: "
+                                    f"p99 {p99 * 1000:.0f} ms, median "
+                                    f"{mcs['latency_median'] * 1000:.0f} ms over "
+                                    f"{len(mcs['latency_samples'])} commands (p99 <= 50 ms)"))
+        idle = {int(k): v for k, v in mcs["idle_cpu_per_second"].items()}
+        if 10 in idle and 100_000 in idle:
+            few, many = idle[10], idle[100_000]
+            same = many <= IDLE_SAME_RATIO * few or many - few <= IDLE_NOISE
+            checks.append((same, f"MCS link idle: {many * 1000:.2f} ms of CPU a second at "
+                                 f"100,000 lines of commands.txt, {few * 1000:.2f} ms at 10 "
+                                 f"(the same: within {IDLE_SAME_RATIO}x or "
+                                 f"{IDLE_NOISE * 1000:.1f} ms/s)"))
+        soak = mcs["soak"]
+        growth = soak["growth_bytes"] / 1e6
+        full = soak["commands"] >= 10_000
+        checks.append((growth <= 5.0 if full else None,
+                       f"MCS link memory: {growth:+.1f} MB over {soak['commands']:,} commands "
+                       f"({soak['growth_per_command_bytes'] / 1000:.2f} KB a command after the "
+                       f"first 100; <= 5 MB over 10,000)"
+                       + ("" if full else ": not the contract's 10,000 (--quick)")))
+    else:
+        checks.append((None, "MCS link: not measured (--no-mcs)"))
+    gui = report.get("gui_animation")
     if gui is not None:
-        checks.append((gui["updates_per_second"] >= 30 and gui["max_stall"] <= 0.1,
+        checks.append((gui["updates_per_second"] >= 60 and gui["max_stall"] <= 0.1,
                        f"GUI animation: {gui['updates_per_second']:.1f} placement updates a "
-                       f"second (>= 30), longest stall {gui['max_stall'] * 1000:.0f} ms (<= 100)"))
+                       f"second (>= 60), longest stall {gui['max_stall'] * 1000:.0f} ms "
+                       "(<= 100)"))
+    else:
+        checks.append((None, "GUI animation: not measured (--no-gui, or no FreeCAD GUI/Xvfb)"))
+    checks.append((None, "sweeps (SPEC §12): not yet available -- `waferscan sweep` is not "
+                         "built yet (100,000 layouts a minute ideal, 10,000 with a 1 mm spot, "
+                         "2 Dask workers >= 1.6x one)"))
     return checks
+
+
+def format_contract(report):
+    marks = {True: "met", False: "NOT MET", None: "n/a"}
+    return "\n".join(f"[{marks[c['met']]}] {c['figure']}" for c in report["contract"])
+
+
+# --- Plot ---------------------------------------------------------------------------------
+
+PLOT_SERIES = (
+    # (panel, workload, engine, colour, label)
+    (0, "steps", "analytic", "tab:green", "analytic"),
+    (0, "steps", "vector", "tab:blue", "vector"),
+    (0, "steps", "loop", "tab:red", "loop"),
+    (1, "wafers", "analytic scan_layout (stack)", "tab:green", "scan_layout, stacked FOUPs"),
+    (1, "wafers", "analytic scan_layout (row)", "tab:olive", "scan_layout, FOUPs in a row"),
+    (1, "wafers", "document build", "tab:purple", "document build (in process)"),
+    (1, "wafers", "document read", "tab:pink", "document read (in process)"),
+    (1, "wafers", "waferscan layout", "tab:brown", "waferscan layout (process)"),
+    (1, "wafers", "waferscan scan", "tab:gray", "waferscan scan (process)"),
+    (2, "mcs", "watch idle (CPU s per s)", "tab:red", "idle watcher"),
+)
+
+
+def plot(report, target):
+    """Cost against the steps, against the wafers and against the MCS history, log-log, as a
+    PNG. matplotlib is imported here only: in the venv it is PyPI's (built for numpy 2),
+    inside FreeCAD Debian's (numpy 1.24); both draw this."""
+    import warnings
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    with warnings.catch_warnings():
+        # Debian's mpl_toolkits beside PyPI's matplotlib: only 3D plots suffer, none here.
+        warnings.simplefilter("ignore", UserWarning)
+        import matplotlib.pyplot as plt
+
+    rows = report["results"]
+    figure, axes = plt.subplots(1, 3, figsize=(15, 4.4))
+    keys = {0: "steps", 1: "wafers", 2: "history"}
+    for panel, workload, engine, colour, label in PLOT_SERIES:
+        points = sorted((r[keys[panel]], r["seconds"], bool(r.get("sampled_steps")))
+                        for r in rows if r["workload"] == workload and r["engine"] == engine)
+        if not points:
+            continue
+        ax = axes[panel]
+        ax.plot([p[0] for p in points], [p[1] for p in points], "-", color=colour, label=label)
+        for x, y, part in points:
+            ax.plot(x, y, "o", color=colour, fillstyle="none" if part else "full")
+    titles = (("cost against steps (paper layout, 10 wafers)", "stepped positions",
+               "seconds per scan (median)"),
+              ("cost against wafers (5,401 positions)", "wafers", "seconds (median)"),
+              ("idle MCS link against history", "lines in commands.txt",
+               "CPU seconds per second"))
+    for ax, (title, xlabel, ylabel) in zip(axes, titles):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="both", alpha=0.3)
+        if ax.lines:
+            ax.legend(fontsize=8)
+    figure.text(0.5, 0.01, "open markers: sampled over the whole travel and scaled by the "
+                "number of positions", ha="center", fontsize=8)
+    figure.tight_layout(rect=(0, 0.03, 1, 1))
+    figure.savefig(target, dpi=100)
+    plt.close(figure)

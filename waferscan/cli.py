@@ -224,34 +224,21 @@ def _poll_seconds(text):
 
 
 def cmd_bench(args):
-    import tempfile
-
     from . import bench
 
     def show(row):
         if not args.json:
-            mark = " (extrapolated)" if row["extrapolated"] else ""
-            print(f"{row['workload']:<8} {row['engine']:<30} {row['steps']:>9} steps "
-                  f"{row['wafers']:>5} wafers {row['seconds']:>11.6f} s{mark}", flush=True)
+            print(bench.format_row(row), flush=True)
 
-    rows = bench.run_bench(paper_scenario(), quick=args.quick, progress=show)
-    with tempfile.TemporaryDirectory() as folder:
-        layout = bench.saved_layout(paper_scenario(), folder)
-        paper = next(r for r in rows if r["workload"] == "paper")
-        for row in bench.startup(layout, paper["steps"], paper["wafers"],
-                                 repeats=3 if args.quick else 7):
-            rows.append(row)
-            show(row)
-        gui = None if args.no_gui else bench.gui_animation(layout)
-    checks = bench.contract(rows, gui)
+    report = bench.run_bench(paper_scenario(), quick=args.quick, gui=not args.no_gui,
+                             mcs=not args.no_mcs, progress=show)
+    if args.plot:
+        bench.plot(report, args.plot)
     if args.json:
-        print(json.dumps({"results": rows, "gui_animation": gui,
-                          "contract": [{"met": ok, "figure": text} for ok, text in checks]},
-                         indent=2))
+        print(json.dumps(report, indent=2))
     else:
         print()
-        for ok, text in checks:
-            print(f"[{'met' if ok else 'NOT MET'}] {text}")
+        print(bench.format_contract(report))
     return 0
 
 
@@ -310,8 +297,11 @@ def build_parser():
 
     bench = sub.add_parser("bench", help="the engines side by side (SPEC §9)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
-    bench.add_argument("--quick", action="store_true", help="smaller sweeps (about 10 s)")
+    bench.add_argument("--quick", action="store_true", help="smaller sweeps, fewer rounds")
     bench.add_argument("--no-gui", action="store_true", help="skip the GUI animation measure")
+    bench.add_argument("--no-mcs", action="store_true", help="skip the MCS link measures")
+    bench.add_argument("--plot", metavar="PNG", help="also plot cost against wafers and "
+                                                     "against MCS history (needs matplotlib)")
     bench.set_defaults(run=cmd_bench)
     return parser
 

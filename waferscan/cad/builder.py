@@ -4,6 +4,7 @@ an App::Part placed at the carrier's slot 1 seat; the scanner; the scan settings
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 
 import FreeCAD as App
 
@@ -30,10 +31,28 @@ def beam_placement(beam):
                          App.Rotation(App.Vector(1, 0, 0), App.Vector(*beam.direction)))
 
 
+@contextmanager
+def unchecked_labels():
+    """FreeCAD quirk: every label set, ``addObject``'s own included, compares the new label with
+    every other object's unless the preference Document/DuplicateLabels is on: O(n) an object.
+    Turned on while WaferScan builds a layout, whose labels are unique already (the scenario
+    checks its names), and put back as it was afterwards."""
+    group = App.ParamGet("User parameter:BaseApp/Preferences/Document")
+    was_set = "DuplicateLabels" in group.GetBools()
+    before = group.GetBool("DuplicateLabels")
+    group.SetBool("DuplicateLabels", True)
+    try:
+        yield
+    finally:
+        if was_set:
+            group.SetBool("DuplicateLabels", before)
+        else:
+            group.RemBool("DuplicateLabels")
+
+
 def add_wafer(doc, wafer, container=None, frame=None):
     """A wafer as a Part::Cylinder with the wafer role; ``frame`` is the container's placement."""
-    obj = doc.addObject("Part::Cylinder", "Wafer")
-    obj.Label = wafer.name
+    obj = features.add_named(doc, "Part::Cylinder", wafer.name)
     obj.Radius = wafer.radius
     obj.Height = wafer.thickness
     placement = wafer_placement(wafer)
@@ -46,12 +65,19 @@ def add_wafer(doc, wafer, container=None, frame=None):
 
 def build_document(layout, name="WaferScanLayout", doc=None):
     """A new (or the given) document holding the layout. Returns the document, recomputed."""
+    with unchecked_labels():
+        return _build(layout, name, doc)
+
+
+def _build(layout, name, doc):
     doc = doc or App.newDocument(name)
     features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
+    # The assemblies first, while the document is small: each App::Part makes an origin whose
+    # six features FreeCAD names itself (X_Axis, ...), searching every object's name for a free
+    # one. With the wafers already there, 400 carriers took 1.5 s of that search.
+    parts = [features.add_named(doc, "App::Part", f"{c.name} assembly") for c in layout.carriers]
     assemblies = {}
-    for carrier in layout.carriers:
-        assembly = doc.addObject("App::Part", "CarrierAssembly")
-        assembly.Label = f"{carrier.name} assembly"
+    for carrier, assembly in zip(layout.carriers, parts):
         frame = carrier_placement(carrier)
         assembly.Placement = frame
         body = features.make_carrier(doc, carrier.name, carrier.slot_count, carrier.pitch,

@@ -15,6 +15,29 @@ from ..core.model import DIRECTIONS, MODES
 from . import roles
 
 
+def object_name(text):
+    """The FreeCAD object name ``text`` becomes: ASCII letters, digits and underscores, not
+    starting with a digit (what FreeCAD itself would make of it)."""
+    name = "".join(c if (c.isascii() and c.isalnum()) or c == "_" else "_" for c in text)
+    return name if name and not name[0].isdigit() else "_" + name
+
+
+def add_named(doc, kind, label):
+    """``doc.addObject(kind, ...)`` under a name made from ``label``, labelled ``label``.
+
+    FreeCAD quirk (FREECAD-NOTES): an object name already taken makes ``addObject`` search
+    every object for a free one: O(n) a call, O(n^2) for a layout (10,000 wafers took minutes).
+    A layout's labels are unique, so the names made from them are too. (The other O(n) search,
+    of every label, is what ``unchecked_labels`` turns off.)"""
+    name = object_name(label)
+    # A taken name (a label FreeCAD had to change, a document built into twice) falls back on
+    # FreeCAD's own search, slow but correct.
+    obj = doc.addObject(kind, name)
+    if obj.Label != label:
+        obj.Label = label
+    return obj
+
+
 class _Proxy:
     """Base of WaferScan's feature proxies: nothing but a type to save."""
 
@@ -96,8 +119,7 @@ class ScanSettings(_Proxy):
 
 
 def make_carrier(doc, name, slot_count, pitch, wafer_diameter, wafer_thickness, support_span):
-    obj = doc.addObject("Part::FeaturePython", "Carrier")
-    obj.Label = name
+    obj = add_named(doc, "Part::FeaturePython", name)
     CarrierBody(obj)
     roles.tag_carrier(obj, slot_count, pitch, wafer_diameter, wafer_thickness, support_span)
     return obj

@@ -8,6 +8,7 @@ receiver; the scan parameters from the ScanSettings object (defaults when there 
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass
 
 import FreeCAD as App
@@ -115,8 +116,11 @@ def beam_from(instance):
 
 
 def _unique_names(instances):
+    """Each wafer's name: its label, or its path where several share the label. Counted once
+    (``list.count`` per wafer was O(n^2))."""
     labels = [i.obj.Label for i in instances]
-    return [label if labels.count(label) == 1 else i.path for label, i in zip(labels, instances)]
+    counts = Counter(labels)
+    return [label if counts[label] == 1 else i.path for label, i in zip(labels, instances)]
 
 
 def _settings(scene, beam, carriers):

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .geometry import (TOUCH_TOLERANCE, accessible, beam_hits_wafer, beam_hits_wafers,
+from .geometry import (TOUCH_TOLERANCE, accessible, accessible_wafers, beam_hits_wafer,
+                       beam_hits_wafers,
                        paper_beam_hits_wafer, translation_range, wafer_columns)
 
 
@@ -60,8 +61,7 @@ def runs_from_intervals(intervals):
 def reachable_wafers(layout):
     """Indices of the wafers that pass the accessibility check over the whole scan."""
     scan = layout.scan
-    return [i for i, w in enumerate(layout.wafers)
-            if accessible(layout, w, scan.start_z, scan.final_z)]
+    return accessible_wafers(layout, layout.wafers, scan.start_z, scan.final_z)
 
 
 def _stepped(layout):
@@ -105,8 +105,14 @@ def paper_engine(layout, progress=None):
     return _step_by_step(layout, paper_beam_hits_wafer, progress)
 
 
-def vector_engine(layout, progress=None, chunk_elements=2_000_000):
-    """numpy over steps x wafers, in chunks of steps to bound memory."""
+# Elements (steps x reachable wafers) per chunk of the vector engine. Each element takes about
+# twenty float64 temporaries, so a chunk peaks near 16 MB: 2 million took 310 MB, and smaller
+# chunks, kept in the processor's caches, are also faster (fab workload: 0.53 s against 1.3 s).
+VECTOR_CHUNK_ELEMENTS = 100_000
+
+
+def vector_engine(layout, progress=None, chunk_elements=VECTOR_CHUNK_ELEMENTS):
+    """numpy over steps x wafers, in chunks of steps to bound memory (``chunk_elements``)."""
     import numpy as np
 
     _stepped(layout)

@@ -198,6 +198,38 @@ def accessible(layout, wafer, z_from, z_to, tol=TOUCH_TOLERANCE):
     return _distance_to_segment_xy(mid, start, end) <= reach_xy + drift + margin
 
 
+def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
+    """Indices of the ``wafers`` that pass ``accessible(layout, wafer, z_from, z_to)``: the same
+    bounds in the same arithmetic, so the same answers, with what depends on the beam alone
+    worked out once instead of once per wafer."""
+    beam = layout.beam
+    lo_z, hi_z = min(z_from, z_to), max(z_from, z_to)
+    margin = 10.0 * tol
+    rise = beam.length * beam.direction[2]
+    z_top, z_bottom = hi_z + max(0.0, rise), lo_z + min(0.0, rise)
+    sx, sy, sz = layout.emitter_at(lo_z)
+    ex, ey = sx + beam.length * beam.direction[0], sy + beam.length * beam.direction[1]
+    dx, dy = ex - sx, ey - sy
+    dd = dx * dx + dy * dy
+    ax, ay, az = layout.lift_axis
+    drift = math.hypot(ax, ay) / az * (hi_z - lo_z)
+    found = []
+    for index, wafer in enumerate(wafers):
+        radius, thickness = wafer.radius, wafer.thickness
+        h = thickness / 2.0
+        (cx, cy, cz), (nx, ny, nz) = wafer.center, wafer.normal
+        mid_z = cz + h * nz
+        half_z = radius * math.sqrt(max(0.0, 1.0 - nz * nz)) + 0.5 * thickness * abs(nz)
+        if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
+            continue
+        px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
+        f = 0.0 if dd == 0.0 else min(1.0, max(0.0, (px * dx + py * dy) / dd))
+        reach_xy = radius + 0.5 * thickness * math.hypot(nx, ny)
+        if math.hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
+            found.append(index)
+    return found
+
+
 # --- Closed-form range of translations -------------------------------------------------------
 
 def _dot(a, b):
@@ -253,25 +285,33 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     corner of two boundaries, where a line crosses the conic, or where the conic is tangent to a
     line tau = const; all those candidates are listed and the feasible ones kept.
     """
-    e = beam.direction
-    n = wafer.normal
-    w = tuple(o - c for o, c in zip(emitter, wafer.center))
-    wn, en, an = _dot(w, n), _dot(e, n), _dot(axis, n)
-    p = tuple(wi - wn * ni for wi, ni in zip(w, n))
-    q = tuple(ei - en * ni for ei, ni in zip(e, n))
-    g = tuple(ai - an * ni for ai, ni in zip(axis, n))
+    # Scalars, not tuples from generators, up to the common case below: this runs once per
+    # wafer of every analytic scan (the same arithmetic in the same order as _dot).
+    ex, ey, ez = e = beam.direction
+    nx, ny, nz = n = wafer.normal
+    cx, cy, cz = wafer.center
+    wx, wy, wz = emitter[0] - cx, emitter[1] - cy, emitter[2] - cz
+    ax, ay, az = axis
+    wn = wx * nx + wy * ny + wz * nz
+    en = ex * nx + ey * ny + ez * nz
+    an = ax * nx + ay * ny + az * nz
+    px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
+    qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
+    gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
     r = wafer.radius + tol
     r2 = r * r
     t = wafer.thickness
 
-    if en == 0.0 and an != 0.0 and g == (0.0, 0.0, 0.0):
+    if en == 0.0 and an != 0.0 and gx == 0.0 and gy == 0.0 and gz == 0.0:
         # The common case: a level wafer, the beam parallel to its faces, the lift along its
         # axis. The region is a rectangle: the faces bound tau, the rim bounds lam alone.
-        span = _rim_span(_dot(q, q), _dot(p, q), _dot(p, p) - r2)
+        span = _rim_span(qx * qx + qy * qy + qz * qz, px * qx + py * qy + pz * qz,
+                         px * px + py * py + pz * pz - r2)
         if span is None or span[1] < -tol or span[0] > beam.length + tol:
             return None
         low, high = (-tol - wn) / an, (t + tol - wn) / an
         return (min(low, high), max(low, high))
+    p, q, g = (px, py, pz), (qx, qy, qz), (gx, gy, gz)
 
     lines = [(1.0, 0.0, -tol), (1.0, 0.0, beam.length + tol)]
     if en == 0.0 and an == 0.0:

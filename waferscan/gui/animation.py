@@ -133,6 +133,10 @@ class ScanAnimation(QtCore.QObject):
         self.finished.emit()
 
     def _set_beam(self, colour):
+        # Only on a change: setting a colour, even the same one, makes Coin redraw the beam.
+        if colour == getattr(self, "_beam_colour", None):
+            return
+        self._beam_colour = colour
         if self.beam.ViewObject is not None:
             self.beam.ViewObject.ShapeColor = colour
             self.beam.ViewObject.LineColor = colour
