@@ -70,15 +70,23 @@ remove_root() {
     say "unmounting what a previous run left mounted in $dir"
     while read -r target; do umount -l "$target"; done <<<"$mounted"
   fi
+  # A bind mount from the same disk would not stop rm --one-file-system: check, then remove.
+  if findmnt -rn -o TARGET | awk -v d="$dir" 'index($0, d "/") == 1 || $0 == d' | grep -q .; then
+    say "error: something is still mounted in $dir; not removing it"
+    exit 1
+  fi
   rm -rf --one-file-system "$dir"
 }
 
 partial="$root.partial"
 # Anything else here is a root of another recipe, or one an interrupted run left unfinished.
 for old in "$cache"/$suite-freecad1-*; do
-  [ -e "$old" ] || continue
-  say "removing $old"
-  remove_root "$old"
+  if [ -d "$old" ]; then
+    say "removing $old"
+    remove_root "$old"
+  elif [ -e "$old" ]; then
+    rm -f "$old"   # an old root's run lock
+  fi
 done
 
 started=$(date +%s)
@@ -90,6 +98,8 @@ cp /etc/resolv.conf "$partial/etc/resolv.conf"
 mount -t proc proc "$partial/proc"
 mount --bind /dev "$partial/dev"
 trap 'umount -l "$partial/dev" "$partial/proc" 2>/dev/null || true' EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
 say "installing ${packages[*]}"
 chroot "$partial" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin DEBIAN_FRONTEND=noninteractive \
   sh -c "apt-get update && apt-get install -y --no-install-recommends ${packages[*]} && apt-get clean" >&2

@@ -14,6 +14,10 @@ checkout=$(dirname "$here")
 root=$("$here/freecad1-root.sh")
 inside=/waferscan
 
+# One run at a time in a root: a second checkout mounted at the same place would hide the first.
+exec 8>"$root.run-lock"
+flock 8
+
 mounted=()
 cleanup() {
   local i
@@ -37,6 +41,9 @@ mount_in /proc -t proc proc
 mount_in /dev --bind /dev
 mount_in /dev/shm -t tmpfs shm      # Qt and Xvfb want shared memory
 mount_in "$inside" --bind "$checkout"
+# The GUI tests' screenshots go to test-artifacts/freecad1/, next to (not over) bookworm's.
+mkdir -p "$checkout/test-artifacts/freecad1"
+mount_in "$inside/test-artifacts" --bind "$checkout/test-artifacts/freecad1"
 # pip inside reaches the package index as the host does: the host's DNS, proxy settings and
 # certificate bundle (which may hold a local proxy's authority that trixie's bundle lacks).
 cp /etc/resolv.conf "$root/etc/resolv.conf"

@@ -7,6 +7,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -16,7 +17,9 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 PAPER = REPO / "resources" / "examples" / "paper.toml"
 FREECADCMD = shutil.which("freecadcmd")
+FREECAD = shutil.which("freecad")
 GIT = shutil.which("git")
+GUI_PROBE = Path(__file__).resolve().with_name("addon_manager_gui_probe.py")
 
 pytestmark = pytest.mark.skipif(FREECADCMD is None or GIT is None,
                                 reason="needs FreeCAD (freecadcmd) and git")
@@ -159,3 +162,36 @@ def test_a_robotless_scenario_crosschecks(installed):
     assert crosscheck["status"] == 0, crosscheck["stderr"]
     report = json.loads(crosscheck["stdout"])
     assert report["ok"] is True and report["code"] == _load_string()
+
+
+def test_in_the_gui_a_robot_layout_gives_the_message_and_a_robotless_one_builds(
+        installed, pinocchio_missing):
+    if FREECAD is None or shutil.which("xvfb-run") is None:
+        pytest.skip("needs the FreeCAD GUI (freecad) and xvfb-run")
+    result_file = installed["robotless"].with_name("gui-result.json")
+    env = dict(_freecad_env(installed["clone"].parents[1]), QTWEBENGINE_DISABLE_SANDBOX="1",
+               WAFERSCAN_GUI_RESULT=str(result_file),
+               WAFERSCAN_GUI_PROBES=str(REPO / "tests" / "gui"),
+               WAFERSCAN_ROBOTLESS=str(installed["robotless"]))
+    command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
+               str(result_file.with_name("user.cfg")), str(GUI_PROBE)]
+    proc = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        output, _ = proc.communicate(timeout=180)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)  # xvfb-run, Xvfb and FreeCAD all go
+        output, _ = proc.communicate()
+        pytest.fail(f"FreeCAD GUI did not quit within 180 s:\n{output}")
+    assert result_file.exists(), f"the probe wrote no result:\n{output}"
+    result = json.loads(result_file.read_text(encoding="utf-8"))
+    assert result["ok"], result.get("error")
+    assert Path(result["waferscan_file"]) == installed["clone"] / "waferscan" / "__init__.py"
+    (message,) = result["messages"]
+    assert message.startswith("robot: pinocchio (pip package pin==")
+    assert f"make -C '{installed['clone']}' setup" in message
+    assert result["documents_after_robot"] == []  # no half-built layout left open
+    load = _load_string()
+    assert result["wafers"] == load.count("1") + load.count("22")  # "22": one wafer, two slots
+    assert result["robots"] == 0
+    assert "Traceback" not in output

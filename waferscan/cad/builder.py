@@ -46,6 +46,10 @@ def add_wafer(doc, wafer, container=None, frame=None):
 
 def build_document(layout, name="WaferScanLayout", doc=None):
     """A new (or the given) document holding the layout. Returns the document, recomputed."""
+    if layout.robot is not None:
+        from ..addon import require_pinocchio
+
+        require_pinocchio()  # without pinocchio, stop before the document exists, not half-way
     doc = doc or App.newDocument(name)
     features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
     carrier_wafers = {c.name: [] for c in layout.carriers}
