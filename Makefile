@@ -4,7 +4,7 @@
 SHELL := /bin/bash
 VENV := .venv
 
-.PHONY: setup demo test clean
+.PHONY: setup demo test test-freecad1 clean
 
 setup:
 	./scripts/setup.sh
@@ -14,6 +14,11 @@ demo: setup
 
 test: setup
 	$(VENV)/bin/python -m pytest tests -q
+
+# The same tests on FreeCAD 1.0: in a Debian trixie root (built once, cached in
+# /var/cache/waferscan; needs root), with a venv of its own there. See docs/FREECAD-1.0.md.
+test-freecad1:
+	./scripts/freecad1-run.sh sh -c 'scripts/setup.sh && "$$WAFERSCAN_VENV/bin/python" -m pytest tests -q'
 
 # Removes what the build made here; the Mod link and system packages stay.
 clean:

@@ -6,7 +6,8 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 root=$(pwd -P)
-venv="$root/.venv"
+# WAFERSCAN_VENV: a venv elsewhere (the FreeCAD 1.0 root keeps its own; see freecad1-run.sh).
+venv=${WAFERSCAN_VENV:-$root/.venv}
 python=/usr/bin/python3        # FreeCAD is built against Debian's Python: the venv must use it too
 
 say() { printf 'setup: %s\n' "$*"; }
@@ -59,16 +60,22 @@ fi
 
 # 5. FreeCAD's modules in the venv's Python: `import FreeCAD, Part` works there, and so do the
 #    workbenches' Python packages (PartDesign, Spreadsheet...) that a user's document may need.
+#    FreeCAD 1.0's Part imports its PartEnums module (in Mod/Part) when it makes a compound; in
+#    plain Python, without that folder on the path, the process exits with status 1, silently.
 pth="$site_packages/freecad.pth"
 want_pth=$(printf '%s\n%s' "$fc_lib" "$fc_mod")
+[ -d "$fc_mod/Part" ] && want_pth=$(printf '%s\n%s' "$want_pth" "$fc_mod/Part")
 if [ "$(cat "$pth" 2>/dev/null)" != "$want_pth" ]; then
   say "adding $fc_lib and $fc_mod to the venv ($pth)"
   printf '%s\n' "$want_pth" >"$pth"
 fi
 
 # 6. The addon in FreeCAD's user Mod folder, as a link to this checkout.
+#    A checkout that is itself that folder (cloned there, as the Addon Manager does) needs none.
 link="${fc_user%/}/Mod/WaferScan"
-if [ "$(readlink "$link" 2>/dev/null)" != "$root" ]; then
+if [ "$(cd "$link" 2>/dev/null && pwd -P)" = "$root" ] && [ ! -L "$link" ]; then
+  link="$root"
+elif [ "$(readlink "$link" 2>/dev/null)" != "$root" ]; then
   if [ -e "$link" ] && [ ! -L "$link" ]; then
     say "error: $link exists and is not a link; move it away and run again" >&2
     exit 1

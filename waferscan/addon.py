@@ -9,6 +9,8 @@ import os
 import site
 import sys
 
+from .core.errors import InputError
+
 # realpath: FreeCAD may import the package through the Mod folder's link to the checkout; the
 # addon has one canonical location either way.
 ADDON_ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
@@ -24,14 +26,24 @@ def icon_path(name="WaferScan.svg"):
     return os.path.join(ADDON_ROOT, "resources", "icons", name)
 
 
+def venv_dir():
+    """The project's venv: ``$WAFERSCAN_VENV`` if set, else ``<addon root>/.venv``.
+
+    WAFERSCAN_VENV lets one checkout serve two FreeCADs: the FreeCAD 1.0 test root keeps a venv
+    of its own for its Python (scripts/freecad1-run.sh), next to the checkout's bookworm one.
+    """
+    return os.environ.get("WAFERSCAN_VENV") or os.path.join(ADDON_ROOT, ".venv")
+
+
 def venv_site_packages():
-    """The site-packages folder of ``<addon root>/.venv`` for this Python version, or None.
+    """The site-packages folder of the project's venv (``venv_dir``) for this Python version,
+    or None.
 
     Only a venv made for the running Python's major.minor version counts: its compiled
     packages (pinocchio) would not load in another one.
     """
     version = "python%d.%d" % sys.version_info[:2]
-    path = os.path.join(ADDON_ROOT, ".venv", "lib", version, "site-packages")
+    path = os.path.join(venv_dir(), "lib", version, "site-packages")
     return path if os.path.isdir(path) else None
 
 
@@ -49,3 +61,46 @@ def add_venv_site_packages():
         return None
     site.addsitedir(path)
     return path
+
+
+# --- pinocchio, which only the robot needs -------------------------------------------------
+
+# The pip distribution that provides ``import pinocchio``; the version pyproject.toml pins
+# (a test keeps the two equal).
+PIN_REQUIREMENT = "pin==4.1.0"
+
+
+def pinocchio_available():
+    """True when ``import pinocchio`` would find the module (without importing it: the import
+    costs a second, and FreeCAD's start-up should not pay it)."""
+    import importlib.util
+
+    return importlib.util.find_spec("pinocchio") is not None
+
+
+def missing_pinocchio_message():
+    """One sentence: pinocchio is missing, what still works, and the command that fixes it.
+
+    Installed by the Addon Manager, the addon is a plain clone: no venv, so no pinocchio
+    (the Addon Manager installs only packages on FreeCAD's allow-list; pin is not on it).
+    """
+    return ("pinocchio (pip package %s) is not installed for FreeCAD's Python %d.%d, so "
+            "layouts with a robot cannot be built or scanned (all else works); to install it, "
+            "run: make -C '%s' setup  (then restart FreeCAD)"
+            % (PIN_REQUIREMENT, sys.version_info[0], sys.version_info[1], ADDON_ROOT))
+
+
+def require_pinocchio():
+    """Raise ``MissingPinocchio`` (one clear line, no traceback in the CLI or the GUI) when
+    pinocchio cannot be imported; called where the robot's kinematics are first needed."""
+    if not pinocchio_available():
+        raise MissingPinocchio()
+
+
+class MissingPinocchio(InputError):
+    """The robot needs pinocchio and it is missing. An InputError, so that the command line
+    (one line on stderr, exit status 2) and the GUI's commands (a message, no traceback)
+    report it the way they report a layout they cannot use."""
+
+    def __init__(self):
+        super().__init__("robot", None, missing_pinocchio_message())

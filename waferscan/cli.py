@@ -316,6 +316,14 @@ def main(argv=None):
         return 2
     except BrokenPipeError:
         return 0
+    finally:
+        # FreeCAD 1.0 quirk: sys.exit() in `freecadcmd -c` ends the process without flushing
+        # Python's buffers, and a batch run's output would be lost.
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
 
 
 if __name__ == "__main__":

@@ -32,17 +32,25 @@ def _look_at_preferences():
     dialog = QtGui.QApplication.activeModalWidget()
     if dialog is None:
         return
-    trees = dialog.findChildren(QtGui.QListWidget) + dialog.findChildren(QtGui.QTreeWidget)
-    names = []
-    for tree in trees:
-        if isinstance(tree, QtGui.QListWidget):
-            names += [tree.item(i).text() for i in range(tree.count())]
-    preferences["groups"] = names
-    for tree in trees:
-        if isinstance(tree, QtGui.QListWidget):
-            for i in range(tree.count()):
-                if tree.item(i).text() == "WaferScan":
-                    tree.setCurrentRow(i)
+    # The groups through the views' models: a QListWidget in FreeCAD 0.20, a tree view of
+    # groups and their pages in 1.0 (whose icon list's items have no text).
+    entries = []
+
+    def walk(view, model, parent):
+        for row in range(model.rowCount(parent)):
+            index = model.index(row, 0, parent)
+            text = model.data(index)
+            entries.append((view, index, text if isinstance(text, str) else ""))
+            walk(view, model, index)
+
+    for view in dialog.findChildren(QtGui.QAbstractItemView):
+        if view.model() is not None:
+            walk(view, view.model(), QtCore.QModelIndex())
+    preferences["groups"] = [text for _, _, text in entries]
+    for view, index, text in entries:
+        if text == "WaferScan":
+            view.setCurrentIndex(index)
+            break
     QtGui.QApplication.processEvents()
     preferences["shot"] = dialog.grab().save(SCREENSHOT.replace(".png", "-preferences.png"))
     dialog.reject()

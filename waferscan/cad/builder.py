@@ -65,6 +65,10 @@ def add_wafer(doc, wafer, container=None, frame=None):
 
 def build_document(layout, name="WaferScanLayout", doc=None):
     """A new (or the given) document holding the layout. Returns the document, recomputed."""
+    if layout.robot is not None:
+        from ..addon import require_pinocchio
+
+        require_pinocchio()  # without pinocchio, stop before the document exists, not half-way
     with unchecked_labels():
         return _build(layout, name, doc)
 

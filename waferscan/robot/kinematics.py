@@ -12,9 +12,11 @@ import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
 import numpy as np
-import pinocchio as pin
 
-from ..addon import addon_root
+from ..addon import addon_root, require_pinocchio
+
+require_pinocchio()  # a clear error with the fix (an Addon Manager install has no pinocchio)
+import pinocchio as pin  # noqa: E402
 
 MM = 1000.0  # millimetres per metre
 FORK, EMITTER, RECEIVER = "fork", "beam_emitter", "beam_receiver"

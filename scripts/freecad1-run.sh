@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Runs a command inside the Debian trixie root with FreeCAD 1.0 (scripts/freecad1-root.sh builds
+# it on first use), with this checkout mounted at /waferscan, where the command starts.
+# Without a command: a shell. `make test-freecad1` runs the test suite this way.
+#
+# Inside, WAFERSCAN_VENV=/opt/waferscan-venv: scripts/setup.sh makes the venv there (in the
+# root, for trixie's Python; the checkout's own .venv is bookworm's) and the addon's Init.py
+# adds that venv's packages to FreeCAD. The mounts (/proc, /dev, the checkout) are undone when
+# the command ends, whatever way it ends.
+set -euo pipefail
+
+here=$(cd "$(dirname "$0")" && pwd -P)
+checkout=$(dirname "$here")
+root=$("$here/freecad1-root.sh")
+inside=/waferscan
+
+# One run at a time in a root: a second checkout mounted at the same place would hide the first.
+exec 8>"$root.run-lock"
+flock 8
+
+mounted=()
+cleanup() {
+  local i
+  for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do
+    # -l: a process still holding a file there (a stray Xvfb) must not keep the mount.
+    umount "${mounted[i]}" 2>/dev/null || umount -l "${mounted[i]}" || true
+  done
+}
+trap cleanup EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+mount_in() {   # mount_in TARGET MOUNT-ARGS...
+  local target="$root$1"
+  shift
+  mkdir -p "$target"
+  mount "$@" "$target"
+  mounted+=("$target")
+}
+mount_in /proc -t proc proc
+mount_in /dev --bind /dev
+mount_in /dev/shm -t tmpfs shm      # Qt and Xvfb want shared memory
+mount_in "$inside" --bind "$checkout"
+# The GUI tests' screenshots go to test-artifacts/freecad1/, next to (not over) bookworm's.
+mkdir -p "$checkout/test-artifacts/freecad1"
+mount_in "$inside/test-artifacts" --bind "$checkout/test-artifacts/freecad1"
+# pip inside reaches the package index as the host does: the host's DNS, proxy settings and
+# certificate bundle (which may hold a local proxy's authority that trixie's bundle lacks).
+cp /etc/resolv.conf "$root/etc/resolv.conf"
+pass_env=()
+if [ -f /etc/ssl/certs/ca-certificates.crt ]; then
+  cp /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/host-ca-certificates.crt"
+  pass_env+=(PIP_CERT=/etc/ssl/host-ca-certificates.crt)
+fi
+for name in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY HYPOTHESIS_PROFILE; do
+  [ -n "${!name:-}" ] && pass_env+=("$name=${!name}")
+done
+
+[ $# -gt 0 ] || set -- bash
+status=0
+chroot "$root" /usr/bin/env -i \
+  HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+  LANG=C.UTF-8 TERM="${TERM:-dumb}" DEBIAN_FRONTEND=noninteractive \
+  WAFERSCAN_VENV=/opt/waferscan-venv ${pass_env[@]+"${pass_env[@]}"} \
+  /bin/sh -c 'cd "$0" && exec "$@"' "$inside" "$@" || status=$?
+exit "$status"
