@@ -41,7 +41,7 @@ def paused_on_a_wafer():
     result["paused_running"] = panel.animation.running
     result["paused_beam_label"] = panel.beam.text()
     result["paused_z"] = panel.animation.z
-    result["paused_position_field"] = panel.z.property("value").getValueAs("mm").Value
+    result["paused_position_field"] = panel.z.value_mm()
     result["paused_buttons"] = [panel.play_button.isEnabled(), panel.pause_button.isEnabled(),
                                 panel.stop_button.isEnabled()]
     lit = panel.animation.lit

@@ -62,7 +62,8 @@ def test_the_scan_of_tagged_solids_uses_the_preferences_and_agrees_headless(tagg
 def test_a_range_typed_wrong_is_a_message_not_a_traceback(tagged):
     gui, _ = tagged
     assert len(gui["bad_range_messages"]) == 1
-    assert "ScanSettings: final_z (-5) is below start_z (0)" in gui["bad_range_messages"][0]
+    # The first Run scan set the range to the slots' windows: slot 1's seat 10 - pitch/2 = 5.
+    assert "ScanSettings: final_z (-5) is below start_z (5)" in gui["bad_range_messages"][0]
     assert gui["bad_range_panel"] is False
 
 

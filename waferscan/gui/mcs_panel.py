@@ -129,6 +129,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self._folder = self.folder.text()
         self.load_parameters()
         self._buttons()
+        self.follow_document(doc)
 
     # --- the folder and parameters.txt -----------------------------------------------------
 
@@ -140,6 +141,16 @@ class McsTaskPanel(ClosableTaskPanel):
                                                         self.folder.text())
         if chosen:
             self.set_folder(chosen)
+
+    def _ask_folder(self, why):
+        """The folder field is empty: ask for a folder (FreeCAD's working directory is no
+        place for the MCS files). True when one was chosen; the editor's text is kept."""
+        chosen = QtGui.QFileDialog.getExistingDirectory(self.form, f"MCS folder: {why}", "")
+        if not chosen:
+            return False
+        self.folder.setText(chosen)
+        self._folder = self.folder.text()
+        return True
 
     def set_folder(self, folder):
         """Another folder: watching stops (start again to watch the new one), its
@@ -220,6 +231,10 @@ class McsTaskPanel(ClosableTaskPanel):
     def save_parameters(self):
         if self.validate() is not None:
             return False
+        if not self.folder.text().strip() and not self._ask_folder("where to save "
+                                                                    "parameters.txt"):
+            self._show_check(False, "no MCS folder: choose one with Browse…")
+            return False
         folder = self.folder_path()
         if not folder.is_dir():
             self._show_check(False, f"{folder}: no such folder")
@@ -240,8 +255,14 @@ class McsTaskPanel(ClosableTaskPanel):
     def start(self, events=True, poll_ms=None):
         """Watch commands.txt: on file-system events (``events``) and every ``poll_ms`` ms
         (0: no polling). Returns False with a message when the folder is not there."""
+        if not self.folder.text().strip():
+            if not self._ask_folder("the folder to watch"):
+                self._show_state("no MCS folder: choose one with Browse…", error=True)
+                return False
+            if self.editor.toPlainText() == self._shown:  # not edited: show the folder's
+                self.load_parameters()
         folder = self.folder_path()
-        if not self.folder.text().strip() or not folder.is_dir():
+        if not folder.is_dir():
             self._show_state(f"{folder}: no such folder", error=True)
             return False
         self.stop()

@@ -100,6 +100,13 @@ class PreferencesPage:
         self.speed.setSuffix(" steps per frame")
         self.speed.setToolTip("Scan positions advanced per animation frame")
         animation_form.addRow("Playback speed", self.speed)
+        # Names for scripts and tests, as FreeCAD's own preference widgets have.
+        for widget, name in ((self.half_thickness, "HalfThickness"),
+                             (self.thickness, "ThicknessTolerance"),
+                             (self.position, "PositionTolerance"),
+                             (self.protrusion, "ProtrusionLimit"), (self.folder, "McsFolder"),
+                             (self.speed, "StepsPerFrame")):
+            widget.setObjectName(name)
         layout = QtGui.QVBoxLayout(self.form)
         for box in (tolerances, link, animation):
             layout.addWidget(box)
@@ -121,10 +128,22 @@ class PreferencesPage:
         self.speed.setValue(steps_per_frame())
 
     def saveSettings(self):
-        set_values(thickness_tolerance=-1.0 if self.half_thickness.isChecked()
-                   else length_value(self.thickness),
-                   position_tolerance=length_value(self.position),
-                   protrusion_limit=length_value(self.protrusion),
+        """Store what the page shows. A field the user left alone stores the exact value it
+        was loaded with (not its rounded text); one typed wrong keeps its old value, and says
+        so in the report view (the dialog is closing)."""
+
+        def typed(field, name):
+            try:
+                return length_value(field)
+            except ValueError as exc:
+                App.Console.PrintError(f"WaferScan preferences: {name} not changed: {exc}\n")
+                return None
+
+        thickness = -1.0 if self.half_thickness.isChecked() else \
+            typed(self.thickness, "thickness tolerance")
+        set_values(thickness_tolerance=thickness,
+                   position_tolerance=typed(self.position, "position tolerance"),
+                   protrusion_limit=typed(self.protrusion, "protrusion limit"),
                    folder=self.folder.text().strip(), speed=self.speed.value())
 
 

@@ -72,6 +72,7 @@ class ScanTaskPanel(ClosableTaskPanel):
         animation.moved.connect(self._moved)
         animation.finished.connect(self._finished)
         self._buttons()
+        self.follow_document(animation.doc)
 
     def play(self):
         self.animation.play()
