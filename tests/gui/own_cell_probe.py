@@ -243,7 +243,7 @@ def link_group():
     from waferscan.gui import commands
     panel = commands._session["panel"]
     state["doc"], state["panel"] = doc, panel
-    panel.speed.setValue(panel.speed.maximum())
+    panel.speed.setValue(panel.speed.minimum())  # seconds: fast
     wait_for("the link cell's scan", lambda: panel.animation.ended, link_done)
 
 
@@ -258,7 +258,7 @@ def link_done():
     # Stopped: the commands stay enabled.
     Gui.runCommand("WaferScan_RunScan")
     panel = commands._session["panel"]
-    panel.speed.setValue(1)
+    panel.speed.setValue(600.0)  # seconds: slow
     panel.stop_button.click()
     result["stopped_status"] = panel.status.text()
     record_enabled("enabled_stopped", after_stop)
@@ -282,7 +282,7 @@ def close_mcs():
     # The document closed while its scan runs: the panel ends and closes, without errors.
     Gui.runCommand("WaferScan_RunScan")
     panel = commands._session["panel"]
-    panel.speed.setValue(1)
+    panel.speed.setValue(600.0)  # seconds: slow
     state["closing"] = panel
     wait_for("a few frames", lambda: panel.animation.k > 5, close_during_scan)
 

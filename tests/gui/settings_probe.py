@@ -23,7 +23,7 @@ FIELDS = ("ThicknessTolerance", "PositionTolerance", "ProtrusionLimit")
 def stored():
     group = App.ParamGet(PARAMETERS)
     return {name: group.GetFloat(name) for name in EXACT} | {
-        "McsFolder": group.GetString("McsFolder"), "StepsPerFrame": group.GetInt("StepsPerFrame")}
+        "McsFolder": group.GetString("McsFolder"), "PlaybackSeconds": group.GetFloat("PlaybackSeconds")}
 
 
 def use_schema(number):
@@ -67,7 +67,7 @@ def begin():
     group = App.ParamGet(PARAMETERS)
     for name, value in EXACT.items():
         group.SetFloat(name, value)
-    group.SetInt("StepsPerFrame", 7)
+    group.SetFloat("PlaybackSeconds", 7.25)  # the field shows one decimal: 7.2 or 7.3
     use_schema(0)
     open_preferences("mm", then=inch)
 

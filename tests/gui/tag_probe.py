@@ -27,14 +27,14 @@ def preferences_page():
     page.position.setText("0.016 in")  # a user may type other units
     page.protrusion.setText("1500 um")
     page.folder.setText(os.environ["WAFERSCAN_GUI_MCS"])
-    page.speed.setValue(40)
+    page.speed.setValue(4.5)  # seconds for a whole scan's animation
     page.form.resize(520, 420)
     page.form.grab().save(artifact("gui-preferences.png"))
     page.saveSettings()
     group = App.ParamGet(preferences.PARAMETERS)
     result["stored"] = [group.GetFloat("ThicknessTolerance"), group.GetFloat("PositionTolerance"),
                         group.GetFloat("ProtrusionLimit"), group.GetString("McsFolder"),
-                        group.GetInt("StepsPerFrame")]
+                        group.GetFloat("PlaybackSeconds")]
     again = preferences.PreferencesPage()
     again.loadSettings()
     result["reloaded"] = [again.half_thickness.isChecked(), again.thickness.value_mm(),

@@ -24,7 +24,7 @@ def test_preferences_accepted_untouched_keep_every_value_exactly(settings, schem
     gui, _ = settings
     stored = gui[schema]["stored"]
     assert {name: stored[name] for name in EXACT} == EXACT  # exact, not approximately
-    assert stored["McsFolder"] == "" and stored["StepsPerFrame"] == 7
+    assert stored["McsFolder"] == "" and stored["PlaybackSeconds"] == 7.25
 
 
 def test_the_fields_show_enough_digits_in_each_unit(settings):

@@ -204,28 +204,39 @@ def scan(doc):
     return result
 
 
-def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
+def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_s=None):
     """Scan the document (as headless runs do) and animate the scan, with its task panel; the
-    results table and the slot code open when the animation reaches the end."""
-    from .animation import ScanAnimation
-    from .scan_panel import ScanTaskPanel
-
+    results table and the slot code open when the animation reaches the end. The animation
+    lasts the preferences' playback time, unless ``duration_s`` or ``steps_per_frame`` (frames
+    as fast as the machine draws them) is given."""
     if panel:
         check_no_other_task_panel()
     result = scan(doc)
-    previous = _session["animation"]
-    if previous is not None:
-        previous.stop()
     if not result.layout.wafers:
         report_info(f"No wafer in {doc.Label} is tagged, so every slot reads empty. Select the "
                     "wafers and use Tag as wafer, then Run scan again.")
-    speed = preferences.steps_per_frame() if steps_per_frame is None else steps_per_frame
-    animation = ScanAnimation(doc, result, speed)
+    return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s)
+
+
+def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
+              duration_s=None):
+    """Animate ``result`` (a scan of ``doc``), with its task panel unless ``panel`` is False."""
+    from .animation import ScanAnimation
+    from .scan_panel import ScanTaskPanel
+
+    previous = _session["animation"]
+    if previous is not None:
+        previous.stop()
+    if steps_per_frame is None and duration_s is None:
+        duration_s = preferences.playback_seconds()
+    animation = ScanAnimation(doc, result, steps_per_frame or 10, duration_s)
     _session["animation"] = animation
     # The animation showed this result: its dialogs show it too.
     on_completed = (lambda: show_results_dialogs(doc, result=result)) if show_results else None
     if panel:
-        _show_task_panel(ScanTaskPanel(animation, on_completed))
+        def replay(seconds):
+            play_scan(doc, result, show_results=show_results, duration_s=seconds)
+        _show_task_panel(ScanTaskPanel(animation, on_completed, replay))
     elif on_completed is not None:
         animation.finished.connect(lambda: animation.completed and on_completed())
     animation.play()
@@ -243,23 +254,46 @@ def results_for(doc):
     return scan_document(doc, "analytic")
 
 
+DIALOG_TITLES = {"table": "WaferScan results", "code": "WaferScan slot code"}
+
+
 def show_results_dialogs(doc=None, which=("table", "code"), result=None):
     """The results table and/or the slot-code dialog of ``result``, by default of the document
-    as it is now."""
+    as it is now. One of each per document: a later scan's replaces the earlier one in the
+    same place, so that dialogs do not pile up; titles name the document."""
     from .results_view import ResultsTable, SlotCodeDialog
 
     doc = doc or App.ActiveDocument
     result = result or results_for(doc)
+    views = _session.setdefault("views", {}).setdefault(doc.Name, {})
     dialogs = []
-    if "table" in which:
-        dialogs.append(ResultsTable(result, doc))
-    if "code" in which:
-        dialogs.append(SlotCodeDialog(result))
-    for dialog in dialogs:
+    for kind in which:
+        dialog = ResultsTable(result, doc) if kind == "table" else SlotCodeDialog(result)
+        dialog.setWindowTitle(f"{DIALOG_TITLES[kind]}: {doc.Label}")
         dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+        if kind == "code":  # room for the side view, on screens that have it
+            dialog.resize(max(dialog.width(), 760), max(dialog.height(), 600))
+        old = views.get(kind)
+        if alive(old) and old.isVisible():
+            dialog.setGeometry(old.geometry())
+            old.close()
+        else:
+            fit_screen(dialog)
+        views[kind] = dialog
         dialog.show()
+        dialog.raise_()
+        dialogs.append(dialog)
     _session["dialogs"] = dialogs
     return dialogs
+
+
+def fit_screen(dialog, margin=(40, 80)):
+    """Shrink a dialog to the screen the main window is on (1024×700 included), less a
+    margin for the window frame and the desktop's panels."""
+    screen = QtGui.QApplication.desktop().availableGeometry(Gui.getMainWindow())
+    size = dialog.size()
+    dialog.resize(min(size.width(), screen.width() - margin[0]),
+                  min(size.height(), screen.height() - margin[1]))
 
 
 def open_mcs_panel(doc, folder=None):
@@ -411,6 +445,10 @@ def cross_check(doc):
                             f"and {len(check.runs)} sensor runs.",
                             QtGui.QMessageBox.Ok, Gui.getMainWindow())
     box.setDetailedText(text)
+    box.setWindowTitle(f"WaferScan cross-check: {doc.Label}")
+    for details in box.findChildren(QtGui.QTextEdit):  # a table: its columns line up
+        details.setFont(QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.FixedFont))
+        details.setLineWrapMode(QtGui.QTextEdit.NoWrap)
     box.setModal(False)
     box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()

@@ -41,6 +41,22 @@ def _guarded(doc, scan):
     return guarded
 
 
+class _FittedTable(QtGui.QTableWidget):
+    """A table whose last column takes what the others leave of its width, never more: no
+    sideways scrolling in a narrow task panel (the full text is in each cell's tooltip)."""
+
+    def resizeEvent(self, event):  # noqa: N802 (Qt's name)
+        super().resizeEvent(event)
+        self.fit_last_column()
+
+    def fit_last_column(self):
+        header = self.horizontalHeader()
+        last = header.count() - 1
+        others = sum(header.sectionSize(c) for c in range(last) if not header.isSectionHidden(c))
+        header.resizeSection(last, max(header.minimumSectionSize(),
+                                       self.viewport().width() - others))
+
+
 class McsTaskPanel(ClosableTaskPanel):
     """Folder, parameters, start/stop watching, and the log of the commands carried out."""
 
@@ -86,9 +102,10 @@ class McsTaskPanel(ClosableTaskPanel):
         from_layout = QtGui.QPushButton("From layout")
         from_layout.setToolTip("Fill in every parameter with the layout's own value")
         from_layout.clicked.connect(self.fill_from_layout)
-        parameter_buttons = QtGui.QHBoxLayout()
-        for button in (from_layout, reload_button, self.save_button):
-            parameter_buttons.addWidget(button)
+        # Two buttons a row at most: the panel fits FreeCAD's default combo view (264 px).
+        parameter_buttons = QtGui.QGridLayout()
+        for index, button in enumerate((from_layout, reload_button, self.save_button)):
+            parameter_buttons.addWidget(button, index // 2, index % 2)
         parameters = QtGui.QGroupBox("parameters.txt")
         parameters_box = QtGui.QVBoxLayout(parameters)
         parameters_box.addWidget(self.editor)
@@ -105,14 +122,27 @@ class McsTaskPanel(ClosableTaskPanel):
         self.state = QtGui.QLabel("not watching")
         self.leaf = self.state
         self.state.setWordWrap(True)
-        self.log = QtGui.QTableWidget(0, len(LOG_COLUMNS))
+        self.log = _FittedTable(0, len(LOG_COLUMNS))
         self.log.setHorizontalHeaderLabels(list(LOG_COLUMNS))
         self.log.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
         self.log.verticalHeader().setVisible(False)
         self.log.verticalHeader().setDefaultSectionSize(20)
         self.log.horizontalHeader().setStretchLastSection(True)
+        # The short columns as wide as their text, the message in what is left (its full text
+        # in its tooltip): no sideways scrolling in a 264 px combo view.
+        header = self.log.horizontalHeader()
+        header.setDefaultSectionSize(40)  # first: Qt keeps a stretched section at least this wide
+        for column in range(len(LOG_COLUMNS) - 1):
+            header.setSectionResizeMode(column, QtGui.QHeaderView.ResizeToContents)
+        header.setMinimumSectionSize(24)
+        # Narrow headers and no time column on screen (each row's time is in its tooltips).
+        self.log.horizontalHeaderItem(2).setText("Cmd")
+        self.log.horizontalHeaderItem(2).setToolTip("Command")
+        self.log.setColumnHidden(0, True)
+        self.log.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
+        self.log.setWordWrap(False)
         self.log.setMinimumHeight(150)
-        watch_buttons = QtGui.QHBoxLayout()
+        watch_buttons = QtGui.QVBoxLayout()
         watch_buttons.addWidget(self.start_button)
         watch_buttons.addWidget(self.stop_button)
         watching = QtGui.QGroupBox("commands.txt")
@@ -356,12 +386,12 @@ class McsTaskPanel(ClosableTaskPanel):
                  answer.status, answer.code or answer.message)
         for column, text in enumerate(cells):
             item = QtGui.QTableWidgetItem(text)
-            item.setToolTip(text)
+            item.setToolTip(f"{cells[0]}: {text}" if column else text)
             if column == 3:
                 item.setForeground(QtGui.QColor(29, 122, 46) if answer.status == "ok"
                                    else QtGui.QColor(192, 16, 16))
             self.log.setItem(row, column, item)
-        self.log.resizeColumnsToContents()
+        self.log.fit_last_column()
         self.log.scrollToBottom()
         line = (f"WaferScan: MCS seq {answer.seq} {answer.command}: {answer.status}"
                 f"{' ' + answer.code if answer.code else ''}"
