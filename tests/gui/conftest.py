@@ -17,9 +17,9 @@ TIMEOUT_S = 180
 
 @pytest.fixture(scope="module")
 def run_gui_probe(tmp_path_factory):
-    """run_gui_probe(probe_path, **env) -> the probe's JSON result (asserted ok)."""
+    """run_gui_probe(probe_path, screen="WxH", **env) -> the probe's JSON result (asserted ok)."""
 
-    def run(probe, **extra_env):
+    def run(probe, screen="1400x1000", **extra_env):
         if FREECAD is None:
             pytest.skip("FreeCAD (freecad) is not installed")
         result_file = tmp_path_factory.mktemp("gui") / "result.json"
@@ -28,7 +28,7 @@ def run_gui_probe(tmp_path_factory):
                    **extra_env)
         # A user config of its own: preferences a probe sets stay out of the user's FreeCAD.
         user_cfg = result_file.with_name("user.cfg")
-        command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
+        command = ["xvfb-run", "-a", "-s", f"-screen 0 {screen}x24", FREECAD, "-u",
                    str(user_cfg), str(probe)]
         # Own process group: on a timeout, xvfb-run, Xvfb and FreeCAD all go.
         proc = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL,

@@ -26,9 +26,9 @@ def begin():
     panel = commands._session["panel"]
     state["panel"], state["animation"] = panel, panel.animation
     result["task_panel_shown"] = Gui.Control.activeDialog()
-    panel.speed.setValue(5)  # slow for now, so that a pause lands mid-scan
-    result["frames"] = 0
-    panel.animation.moved.connect(lambda k, z: result.__setitem__("frames", result["frames"] + 1))
+    panel.speed.setValue(120.0)  # slow for now (seconds for the whole scan): a pause lands mid-scan
+    frames = state["frames"] = []
+    panel.animation.moved.connect(lambda k, z: frames.append(k))
     # Pause on the cross-slotted wafer of slot 5, as the README's screenshot shows.
     wait_for("the beam blocked by LP1_W04", lambda: "LP1_W04" in panel.animation.lit,
              paused_on_a_wafer)
@@ -41,7 +41,7 @@ def paused_on_a_wafer():
     result["paused_running"] = panel.animation.running
     result["paused_beam_label"] = panel.beam.text()
     result["paused_z"] = panel.animation.z
-    result["paused_position_field"] = panel.z.property("value").getValueAs("mm").Value
+    result["paused_position_field"] = panel.z.value_mm()
     result["paused_buttons"] = [panel.play_button.isEnabled(), panel.pause_button.isEnabled(),
                                 panel.stop_button.isEnabled()]
     lit = panel.animation.lit
@@ -59,8 +59,7 @@ def paused_on_a_wafer():
 
 def resume():
     panel = state["panel"]
-    result["frames_while_paused"] = result["frames"]
-    panel.speed.setValue(60)
+    panel.speed.setValue(4.0)
     panel.play_button.click()
     wait_for("the animation's end", lambda: panel.animation.ended, after_animation)
 
@@ -69,6 +68,9 @@ def after_animation():
     from waferscan.gui import commands
     panel = state["panel"]
     result["completed"] = panel.animation.completed
+    frames = state["frames"]
+    result["frames"] = [len(frames), all(a < b for a, b in zip(frames, frames[1:])),
+                        frames[-1], panel.animation.frames, panel.animation.duration_s]
     carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
     result["see_through_after"] = [carrier.ViewObject.Transparency,
                                    panel.animation.beam.ViewObject.LineWidth]

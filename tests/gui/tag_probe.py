@@ -19,25 +19,25 @@ def preferences_page():
     from waferscan.gui import preferences
     page = preferences.PreferencesPage()
     page.loadSettings()
-    result["defaults"] = [page.half_thickness.isChecked(), page.position.property("value").Value,
-                          page.protrusion.property("value").Value, page.folder.text(),
+    result["defaults"] = [page.half_thickness.isChecked(), page.position.value_mm(),
+                          page.protrusion.value_mm(), page.folder.text(),
                           page.speed.value()]
     page.half_thickness.setChecked(False)
-    page.thickness.lineEdit().setText("0.25 mm")
-    page.position.lineEdit().setText("0.016 in")  # a user may type other units
-    page.protrusion.lineEdit().setText("1500 um")
+    page.thickness.setText("0.25 mm")
+    page.position.setText("0.016 in")  # a user may type other units
+    page.protrusion.setText("1500 um")
     page.folder.setText(os.environ["WAFERSCAN_GUI_MCS"])
-    page.speed.setValue(40)
+    page.speed.setValue(4.5)  # seconds for a whole scan's animation
     page.form.resize(520, 420)
     page.form.grab().save(artifact("gui-preferences.png"))
     page.saveSettings()
     group = App.ParamGet(preferences.PARAMETERS)
     result["stored"] = [group.GetFloat("ThicknessTolerance"), group.GetFloat("PositionTolerance"),
                         group.GetFloat("ProtrusionLimit"), group.GetString("McsFolder"),
-                        group.GetInt("StepsPerFrame")]
+                        group.GetFloat("PlaybackSeconds")]
     again = preferences.PreferencesPage()
     again.loadSettings()
-    result["reloaded"] = [again.half_thickness.isChecked(), again.thickness.property("value").Value,
+    result["reloaded"] = [again.half_thickness.isChecked(), again.thickness.value_mm(),
                           again.speed.value()]
 
 
@@ -104,6 +104,7 @@ def begin():
     sensor.Receiver = App.Vector(160, 2, 2)
     sensor.Placement.Base = App.Vector(80, 64.6, -2)  # the emitter at Z 0
     doc.recompute()
+    result["tag_messages"] = message_boxes()  # what to set next, for the carrier and scanner
     result["undo_names"] = list(doc.UndoNames)
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")

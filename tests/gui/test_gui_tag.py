@@ -23,10 +23,10 @@ def tagged(run_gui_probe, tmp_path_factory):
 
 def test_the_preferences_page_stores_what_was_typed_in_any_unit(tagged):
     gui, folder = tagged
-    assert gui["defaults"] == [True, 0.5, 1.0, "", 10]
+    assert gui["defaults"] == [True, 0.5, 1.0, "", 10.0]  # 10 s for a whole scan
     assert gui["stored"][:3] == pytest.approx([0.25, 0.4064, 1.5])  # 0.016 in, 1500 um
-    assert gui["stored"][3:] == [str(folder), 40]
-    assert gui["reloaded"] == [False, pytest.approx(0.25), 40]
+    assert gui["stored"][3:] == [str(folder), 4.5]
+    assert gui["reloaded"] == [False, pytest.approx(0.25), 4.5]
 
 
 def test_a_box_is_refused_as_a_wafer_and_nothing_changes(tagged):
@@ -51,7 +51,7 @@ def test_the_scan_of_tagged_solids_uses_the_preferences_and_agrees_headless(tagg
     # as its own undo step.
     assert gui["settings"] == pytest.approx([0.25, 0.4064, 1.5])
     assert "Add WaferScan scan settings" in gui["undo_names_after_scan"]
-    assert gui["speed_from_preferences"] == 40
+    assert gui["speed_from_preferences"] == 4.5
     with opened_layout(folder / "own-solids.FCStd") as doc:
         headless = scan_document(doc, "analytic")
     assert headless.code == gui["code"]
@@ -62,7 +62,8 @@ def test_the_scan_of_tagged_solids_uses_the_preferences_and_agrees_headless(tagg
 def test_a_range_typed_wrong_is_a_message_not_a_traceback(tagged):
     gui, _ = tagged
     assert len(gui["bad_range_messages"]) == 1
-    assert "ScanSettings: final_z (-5) is below start_z (0)" in gui["bad_range_messages"][0]
+    # The first Run scan set the range to the slots' windows: slot 1's seat 10 - pitch/2 = 5.
+    assert "ScanSettings: final_z (-5) is below start_z (5)" in gui["bad_range_messages"][0]
     assert gui["bad_range_panel"] is False
 
 

@@ -85,10 +85,11 @@ def probe():
         result["pixmaps"] = {name: command.GetResources()["Pixmap"]
                              for name, command in {**commands.COMMANDS,
                                                    **commands.TAG_COMMANDS}.items()}
+        # The screenshots' folder first: the preferences' grab is saved into it too.
+        os.makedirs(os.path.dirname(SCREENSHOT), exist_ok=True)
         # The preferences page, opened with its command (a modal dialog: looked at, then closed).
         QtCore.QTimer.singleShot(700, _look_at_preferences)
         Gui.runCommand("WaferScan_Preferences")
-        os.makedirs(os.path.dirname(SCREENSHOT), exist_ok=True)
         result["screenshot_saved"] = window.grab().save(SCREENSHOT)
         result["preferences"] = preferences
         result["ok"] = True

@@ -87,3 +87,45 @@ def tag_scanner(obj, emitter=(0.0, 0.0, 0.0), receiver=(160.0, 0.0, 0.0), lift_a
     add_property(obj, "App::PropertyVector", "LiftAxis",
                  "Global direction of the scan motion when no robot carries the scanner",
                  App.Vector(*lift_axis))
+
+
+def solid_count(obj):
+    """How many solids the object's own shape holds (0 for an object without a shape)."""
+    shape = getattr(obj, "Shape", None)
+    return 0 if shape is None or shape.isNull() else len(shape.Solids)
+
+
+def is_compound_of_solids(obj):
+    """Whether the object is one shape of several solids of its own (what STEP import makes of
+    a whole file with "merge compound" on), as opposed to a container, a group or a link, whose
+    solids are objects of their own in the tree."""
+    if obj.getSubObjects() or getattr(obj, "LinkedObject", None) is not None:
+        return False
+    return solid_count(obj) > 1
+
+
+def split_compound(obj):
+    """Put each solid of a compound (a STEP file imported with "merge compound" on, FreeCAD's
+    default, is one) into a Part::Feature of its own, placed where it was, and hide the
+    compound; returns the new objects, to be tagged one by one. The caller makes it one undo
+    step. Names are given up front (``<Name>_S001``...), so that FreeCAD need not search for
+    free ones."""
+    solids = obj.Shape.Solids
+    doc = obj.Document
+    container = obj.getParentGeoFeatureGroup()
+    group = obj.getParentGroup()
+    width = max(3, len(str(len(solids))))
+    made = []
+    for number, solid in enumerate(solids, start=1):
+        name = f"{obj.Name}_S{number:0{width}d}"
+        part = doc.addObject("Part::Feature", name)
+        part.Label = f"{obj.Label} solid {number}"
+        # The compound's shape is placed by the compound's Placement: the solids keep it.
+        part.Shape = solid
+        for parent in (container, group):
+            if parent is not None:
+                parent.addObject(part)
+                break
+        made.append(part)
+    obj.Visibility = False
+    return made

@@ -71,10 +71,28 @@ class Instance:
         object.__setattr__(self, "_source", doc.FileName or doc.Name)
 
 
+def _claimed(doc):
+    """Names of the objects another object shows as its own children in the tree: those of
+    groups and App::Part containers, and also the elements of an App::LinkGroup (STEP import's
+    default with "Use LinkGroup" on), which neither ``getParentGroup`` nor
+    ``getParentGeoFeatureGroup`` reports. A link's target is not claimed by the link: the tree
+    lists it on its own, and the 3D view shows it when it is visible."""
+    claimed = set()
+    for obj in doc.Objects:
+        if getattr(obj, "LinkedObject", None) is not None:
+            continue  # a link: its sub-objects belong to its target
+        for sub in obj.getSubObjects():
+            claimed.add(sub.split(".", 1)[0])
+    return claimed
+
+
 def scene_roots(doc):
-    """Objects no group or container claims: the top of the tree."""
+    """Objects no group, container or link group claims: the top of the tree, so that each
+    solid is walked once, as the tree and the 3D view show it."""
+    claimed = _claimed(doc)
     return [o for o in doc.Objects
-            if o.getParentGroup() is None and o.getParentGeoFeatureGroup() is None]
+            if o.getParentGroup() is None and o.getParentGeoFeatureGroup() is None
+            and o.Name not in claimed]
 
 
 def _visible(obj):

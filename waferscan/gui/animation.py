@@ -5,6 +5,8 @@ animation shows it, it does not compute it."""
 
 from __future__ import annotations
 
+import time
+
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
@@ -16,6 +18,7 @@ from ..core.model import DOWN, UPDOWN
 BEAM_CLEAR, BEAM_BLOCKED = (0.1, 0.6, 0.1), (0.9, 0.1, 0.1)
 WAFER_HIT = (0.95, 0.55, 0.1)
 EXACT_FRAMES = 2000  # an exact scan (z_step = 0) has no steps: it is drawn at this many
+CLOCK_FRAME_MS = 15  # played against the clock: a frame every 15 ms at most (≈ 60 a second)
 
 
 class ScanAnimation(QtCore.QObject):
@@ -33,11 +36,16 @@ class ScanAnimation(QtCore.QObject):
     moved = QtCore.Signal(int, float)
     finished = QtCore.Signal()
 
-    def __init__(self, doc, result, steps_per_frame=10):
+    def __init__(self, doc, result, steps_per_frame=10, duration_s=None):
         super().__init__()
         self.doc, self.result = doc, result
         self.scan = result.layout.scan
         self.steps_per_frame = max(1, int(steps_per_frame))
+        # Played against the clock when given: the whole scan lasts duration_s seconds of real
+        # time on any machine (frames are skipped on a slow one); else steps_per_frame a frame.
+        self.duration_s = None if duration_s is None else max(0.1, float(duration_s))
+        self._clock = (0.0, 0)  # (monotonic time, frame) the clock counts from
+        self._shown = None  # the frame shown last
         scene = DocumentScene.of(doc)
         self.mover = mover_for(scene, result.layout)
         self.beam = scene.scanner().obj
@@ -94,11 +102,29 @@ class ScanAnimation(QtCore.QObject):
     def set_speed(self, steps_per_frame):
         """Scan positions advanced per frame; takes effect at the next frame."""
         self.steps_per_frame = max(1, int(steps_per_frame))
+        self.duration_s = None
+
+    def set_duration(self, seconds):
+        """Play the whole scan in ``seconds`` of real time, from where it stands now."""
+        self.duration_s = max(0.1, float(seconds))
+        self._clock = (time.monotonic(), self.k)
+        if self.running:
+            self.timer.start(CLOCK_FRAME_MS)
 
     def play(self):
         """Start, or go on after a pause (an animation that ended stays ended)."""
         if not self.ended:
-            self.timer.start(0)
+            self._clock = (time.monotonic(), self.k)
+            self.timer.start(0 if self.duration_s is None else CLOCK_FRAME_MS)
+
+    def _next_frame(self):
+        # Against the clock, the next tick decides (_due); else a fixed number of steps.
+        return self.k + (1 if self.duration_s is not None else self.steps_per_frame)
+
+    def _due(self):
+        """The frame the clock has reached (played against the clock)."""
+        started, first = self._clock
+        return first + int((time.monotonic() - started) * (self.frames - 1) / self.duration_s)
 
     def pause(self):
         self.timer.stop()
@@ -154,6 +180,11 @@ class ScanAnimation(QtCore.QObject):
 
     def _tick(self):
         last = self.frames - 1
+        if self.duration_s is not None and self._shown is not None:
+            due = self._due()
+            if due <= self._shown:
+                return  # the clock has not reached the next frame yet
+            self.k = min(due, last)
         try:
             gone = [label for name, label in self.tracked.items()
                     if self.doc.getObject(name) is None]
@@ -169,8 +200,9 @@ class ScanAnimation(QtCore.QObject):
             self._end(fault=f"{type(exc).__name__}: {exc}")
             return
         self.bar.setValue(self.k)
+        self._shown = self.k
         self.moved.emit(self.k, self.z)
         if self.k >= last:
             self._end(completed=True)
             return
-        self.k = min(self.k + self.steps_per_frame, last)  # the last position is always shown
+        self.k = min(self._next_frame(), last)  # the last position is always shown

@@ -5,6 +5,7 @@ view, and a user's mistake also gets a (non-blocking) message box."""
 from __future__ import annotations
 
 import tomllib
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 
@@ -15,7 +16,9 @@ from PySide import QtCore, QtGui
 from ..addon import icon_path
 from ..cad.disc import NotADisc
 from ..core.errors import InputError
+from ..core.model import ScanParameters
 from . import preferences
+from .inputs import format_length
 from .qt import alive
 
 # The last scan of each document (by its Name), the running animation, the open dialogs.
@@ -37,6 +40,43 @@ def report_error(message):
     box.show()
     _session["messages"] = [m for m in _session["messages"] if alive(m)] + [box]
     return box
+
+
+def report_info(message, title="WaferScan"):
+    """What the user should know or do next: in the report view and in a message box that does
+    not block (a fresh FreeCAD keeps the report view hidden)."""
+    App.Console.PrintMessage(f"WaferScan: {message}\n")
+    box = QtGui.QMessageBox(QtGui.QMessageBox.Information, title, str(message),
+                            QtGui.QMessageBox.Ok, Gui.getMainWindow())
+    box.setModal(False)
+    box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+    box.show()
+    _session["messages"] = [m for m in _session["messages"] if alive(m)] + [box]
+    return box
+
+
+def ask(question, choices, title="WaferScan"):
+    """A question the user must answer before going on: ``choices`` are (button text, Qt
+    button role) pairs; returns the text of the button clicked, None when the box was closed."""
+    box = QtGui.QMessageBox(QtGui.QMessageBox.Question, title, question,
+                            QtGui.QMessageBox.NoButton, Gui.getMainWindow())
+    buttons = [(box.addButton(text, button_role), text) for text, button_role in choices]
+    box.exec_()
+    clicked = box.clickedButton()
+    return next((text for button, text in buttons if button is clicked), None)
+
+
+@contextmanager
+def transaction(doc, name):
+    """One undo step named ``name`` around the block: committed when it ends, aborted (the
+    document left as it was) when it raises."""
+    doc.openTransaction(name)
+    try:
+        yield
+    except BaseException:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
 
 
 def _ours_open():
@@ -88,25 +128,66 @@ def open_scenario(path):
 
 
 def ensure_settings(doc):
-    """A document scanned without a ScanSettings object gets one, with the reader's defaults
-    and the preferences' tolerances, as an undoable step the user can then edit."""
+    """A document scanned without a ScanSettings object gets one, as an undoable step the user
+    can then edit: the reader's defaults, the preferences' tolerances, and a range that covers
+    the windows of the carrier's slots (SPEC §3), wherever the scanner happens to stand. With
+    several carriers tagged, the user chooses the one to scan."""
     from ..cad import roles
     from ..cad.features import make_settings
-    from ..cad.reader import read_layout
+    from ..cad.reader import DocumentScene, carrier_from
 
     if any(roles.role_of(o) == roles.SETTINGS for o in doc.Objects):
         return None
-    layout = read_layout(doc)
-    doc.openTransaction("Add WaferScan scan settings")
-    try:
-        settings = make_settings(doc, layout.scan, preferences.mapping_tolerances(), None)
-    except Exception:
-        doc.abortTransaction()
-        raise
-    doc.commitTransaction()
-    App.Console.PrintMessage(f"WaferScan: added {settings.Label} to {doc.Label} (scan from "
-                             f"{layout.scan.start_z:g} to {layout.scan.final_z:g} mm)\n")
+    scene = DocumentScene.of(doc)
+    check_tagged(scene)
+    carriers = [carrier_from(i) for i in scene.carriers]
+    chosen = _choose_carrier(doc, carriers) if len(carriers) > 1 else None
+    carrier = chosen or carriers[0]
+    scan = ScanParameters(start_z=carrier.seat_z(1) - 0.5 * carrier.pitch,
+                          final_z=carrier.seat_z(carrier.slot_count) + 0.5 * carrier.pitch)
+    with transaction(doc, "Add WaferScan scan settings"):
+        settings = make_settings(doc, scan, preferences.mapping_tolerances(),
+                                 chosen.name if chosen else None)
+    App.Console.PrintMessage(f"WaferScan: added {settings.Label} to {doc.Label} (scan of "
+                             f"{carrier.name} from {format_length(scan.start_z)} to "
+                             f"{format_length(scan.final_z)}: its slots' windows)\n")
     return settings
+
+
+def check_tagged(scene):
+    """An InputError that says what to tag next when the document lacks a carrier or has not
+    exactly one scanner (a fresh FreeCAD hides the report view: the message box says it)."""
+    missing = []
+    if not scene.carriers:
+        missing.append("the carrier (the whole container holding the slots, not one of its "
+                       "walls) and use Tag as carrier")
+    if not scene.scanners:
+        missing.append("the through-beam sensor and use Tag as scanner")
+    if missing:
+        untagged = not (scene.wafers or scene.carriers or scene.scanners)
+        raise scene.error(("Nothing in it is tagged yet. " if untagged else "") + "Select " +
+                          ", then ".join(missing) + "; wafers are tagged with Tag as wafer.")
+    if len(scene.scanners) > 1:
+        names = ", ".join(i.path for i in scene.scanners)
+        raise scene.error(f"{len(scene.scanners)} visible objects are tagged as scanners "
+                          f"({names}): hide the ones not to use (Space), or undo their tagging "
+                          "(Edit → Undo)")
+
+
+def _choose_carrier(doc, carriers):
+    """Several carriers (a wall tagged by mistake, or two load ports): the user picks the one
+    to scan; it goes into ScanSettings.Carrier."""
+    names = [c.name for c in carriers]
+    answer = ask(f"{doc.Label} has {len(names)} objects tagged as carriers: {', '.join(names)}. "
+                 "Which one is to be scanned? (Your choice is kept in ScanSettings.Carrier. A "
+                 "wall tagged by mistake: Edit → Undo its tagging, or delete its WaferScanRole "
+                 "property.)",
+                 [(name, QtGui.QMessageBox.AcceptRole) for name in names] +
+                 [("Cancel", QtGui.QMessageBox.RejectRole)])
+    if answer is None or answer == "Cancel" and "Cancel" not in names:
+        raise InputError(doc.FileName or doc.Name, None,
+                         f"several carriers ({', '.join(names)}): choose the one to scan")
+    return carriers[names.index(answer)]
 
 
 def scan(doc):
@@ -116,13 +197,8 @@ def scan(doc):
 
     result = results_for(doc)
     _session["results"][doc.Name] = result
-    doc.openTransaction("WaferScan results")
-    try:
+    with transaction(doc, "WaferScan results"):
         store_in_document(doc, result)
-    except Exception:
-        doc.abortTransaction()
-        raise
-    doc.commitTransaction()
     App.Console.PrintMessage(f"WaferScan: {doc.Label}: slot code {result.code}, "
                              f"{len(result.runs)} sensor runs\n")
     for warning in result.warnings:  # what the result cannot know (SPEC §3)
@@ -130,25 +206,39 @@ def scan(doc):
     return result
 
 
-def run_scan(doc, steps_per_frame=None, show_results=True, panel=True):
+def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_s=None):
     """Scan the document (as headless runs do) and animate the scan, with its task panel; the
-    results table and the slot code open when the animation reaches the end."""
-    from .animation import ScanAnimation
-    from .scan_panel import ScanTaskPanel
-
+    results table and the slot code open when the animation reaches the end. The animation
+    lasts the preferences' playback time, unless ``duration_s`` or ``steps_per_frame`` (frames
+    as fast as the machine draws them) is given."""
     if panel:
         check_no_other_task_panel()
     result = scan(doc)
+    if not result.layout.wafers:
+        report_info(f"No wafer in {doc.Label} is tagged, so every slot reads empty. Select the "
+                    "wafers and use Tag as wafer, then Run scan again.")
+    return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s)
+
+
+def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
+              duration_s=None):
+    """Animate ``result`` (a scan of ``doc``), with its task panel unless ``panel`` is False."""
+    from .animation import ScanAnimation
+    from .scan_panel import ScanTaskPanel
+
     previous = _session["animation"]
     if previous is not None:
         previous.stop()
-    speed = preferences.steps_per_frame() if steps_per_frame is None else steps_per_frame
-    animation = ScanAnimation(doc, result, speed)
+    if steps_per_frame is None and duration_s is None:
+        duration_s = preferences.playback_seconds()
+    animation = ScanAnimation(doc, result, steps_per_frame or 10, duration_s)
     _session["animation"] = animation
     # The animation showed this result: its dialogs show it too.
     on_completed = (lambda: show_results_dialogs(doc, result=result)) if show_results else None
     if panel:
-        _show_task_panel(ScanTaskPanel(animation, on_completed))
+        def replay(seconds):
+            play_scan(doc, result, show_results=show_results, duration_s=seconds)
+        _show_task_panel(ScanTaskPanel(animation, on_completed, replay))
     elif on_completed is not None:
         animation.finished.connect(lambda: animation.completed and on_completed())
     animation.play()
@@ -159,28 +249,53 @@ def results_for(doc):
     """The document's results as it is now: scanned afresh (a millisecond), so that a wafer
     moved or deleted since the last Run scan is seen. Only Run scan stores them."""
     from ..cad.document_scan import scan_document
+    from ..cad.reader import DocumentScene
 
+    check_tagged(DocumentScene.of(doc))
     ensure_settings(doc)
     return scan_document(doc, "analytic")
 
 
+DIALOG_TITLES = {"table": "WaferScan results", "code": "WaferScan slot code"}
+
+
 def show_results_dialogs(doc=None, which=("table", "code"), result=None):
     """The results table and/or the slot-code dialog of ``result``, by default of the document
-    as it is now."""
+    as it is now. One of each per document: a later scan's replaces the earlier one in the
+    same place, so that dialogs do not pile up; titles name the document."""
     from .results_view import ResultsTable, SlotCodeDialog
 
     doc = doc or App.ActiveDocument
     result = result or results_for(doc)
+    views = _session.setdefault("views", {}).setdefault(doc.Name, {})
     dialogs = []
-    if "table" in which:
-        dialogs.append(ResultsTable(result, doc))
-    if "code" in which:
-        dialogs.append(SlotCodeDialog(result))
-    for dialog in dialogs:
+    for kind in which:
+        dialog = ResultsTable(result, doc) if kind == "table" else SlotCodeDialog(result)
+        dialog.setWindowTitle(f"{DIALOG_TITLES[kind]}: {doc.Label}")
         dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+        if kind == "code":  # room for the side view, on screens that have it
+            dialog.resize(max(dialog.width(), 760), max(dialog.height(), 600))
+        old = views.get(kind)
+        if alive(old) and old.isVisible():
+            dialog.setGeometry(old.geometry())
+            old.close()
+        else:
+            fit_screen(dialog)
+        views[kind] = dialog
         dialog.show()
+        dialog.raise_()
+        dialogs.append(dialog)
     _session["dialogs"] = dialogs
     return dialogs
+
+
+def fit_screen(dialog, margin=(40, 80)):
+    """Shrink a dialog to the screen the main window is on (1024×700 included), less a
+    margin for the window frame and the desktop's panels."""
+    screen = QtGui.QApplication.desktop().availableGeometry(Gui.getMainWindow())
+    size = dialog.size()
+    dialog.resize(min(size.width(), screen.width() - margin[0]),
+                  min(size.height(), screen.height() - margin[1]))
 
 
 def open_mcs_panel(doc, folder=None):
@@ -190,32 +305,122 @@ def open_mcs_panel(doc, folder=None):
     return _show_task_panel(McsTaskPanel(doc, folder))
 
 
+ROLE_NAMES = {"wafer": "Wafer", "carrier": "Carrier", "scanner": "Scanner"}
+TAG_HINTS = {"wafer": "its disc is read from its solid",
+             "carrier": "set SlotCount, Pitch and SlotOrigin (slot 1's seat) in its Data tab",
+             "scanner": "set Emitter and Receiver (in its own frame) in its Data tab"}
+
+
 def tag_selection(role, selection=None):
     """Give the selected objects a role (wafer, carrier or scanner) as one undo step; a solid
-    that cannot take it leaves the document as it was."""
+    that cannot take it leaves the document as it was. An object that has another role is
+    re-tagged only when the user says so; a compound of several solids (a STEP file imported
+    with "merge compound" on) is offered to be split into its solids first."""
     from ..cad import roles
 
-    taggers = {"wafer": roles.tag_wafer, "carrier": roles.tag_carrier,
-               "scanner": roles.tag_scanner}
     objects = list(Gui.Selection.getSelection() if selection is None else selection)
     if not objects:
         raise InputError("selection", None, f"select the object(s) to tag as {role} first")
     doc = objects[0].Document
-    doc.openTransaction(f"Tag as {role}")
-    try:
+    other = [o for o in objects if roles.role_of(o) not in (None, ROLE_NAMES[role])]
+    if other:
+        names = ", ".join(f"{o.Label} ({roles.role_of(o).lower()})" for o in other)
+        retag = f"Tag as {role}"
+        if ask(f"{names} already {'has' if len(other) == 1 else 'have'} a WaferScan role. "
+               f"Tag {'it' if len(other) == 1 else 'them'} as {role} instead?",
+               [(retag, QtGui.QMessageBox.AcceptRole),
+                ("Cancel", QtGui.QMessageBox.RejectRole)]) != retag:
+            return []
+    compounds = [o for o in objects if roles.role_of(o) is None and roles.is_compound_of_solids(o)]
+    if compounds:
+        split = _offer_split(role, compounds)
+        if split is None:
+            return []
+        if split:
+            return _split_and_tag(role, objects, compounds)
+    with transaction(doc, f"Tag as {role}"):
         for obj in objects:
-            taggers[role](obj)
-    except Exception:
-        doc.abortTransaction()
-        raise
-    doc.commitTransaction()
+            _tag(role, obj)
     doc.recompute()
     names = ", ".join(o.Label for o in objects)
-    hints = {"wafer": "its disc is read from its solid",
-             "carrier": "set SlotCount, Pitch and SlotOrigin (slot 1's seat) in its Data tab",
-             "scanner": "set Emitter and Receiver (in its own frame) in its Data tab"}
-    App.Console.PrintMessage(f"WaferScan: tagged {names} as {role}; {hints[role]}\n")
+    message = f"Tagged {names} as {role}: {TAG_HINTS[role]}."
+    if role == "wafer":  # nothing to set: the status bar is enough
+        App.Console.PrintMessage(f"WaferScan: {message}\n")
+        Gui.getMainWindow().statusBar().showMessage(f"WaferScan: {message}", 15000)
+    else:
+        report_info(message)
     return objects
+
+
+def _tag(role, obj):
+    from ..cad import roles
+
+    {"wafer": roles.tag_wafer, "carrier": roles.tag_carrier,
+     "scanner": roles.tag_scanner}[role](obj)
+
+
+def _offer_split(role, compounds):
+    """Ask whether to split the compounds into their solids: True (split), False (tag each
+    compound as a whole, not offered for wafers: a wafer is one solid), None (cancel)."""
+    from ..cad import roles
+
+    count = sum(roles.solid_count(o) for o in compounds)
+    names = ", ".join(o.Label for o in compounds)
+    split = "Split into solids"
+    whole = f"Tag as one {role}"
+    question = (f"{names} {'is a compound' if len(compounds) == 1 else 'are compounds'} of "
+                f"{count} solids (a STEP file imported with \"merge compound\" on is one "
+                "compound). Split into one object per solid, as one undo step")
+    choices = [(split, QtGui.QMessageBox.AcceptRole)]
+    if role == "wafer":
+        question += ", and tag the discs among them as wafers?"
+    else:
+        question += f", then select the {role} among them? Or tag the whole as the {role}?"
+        choices.append((whole, QtGui.QMessageBox.AcceptRole))
+    choices.append(("Cancel", QtGui.QMessageBox.RejectRole))
+    answer = ask(question, choices)
+    return {split: True, whole: False}.get(answer)
+
+
+def _split_and_tag(role, objects, compounds):
+    """Split the compounds into their solids (one undo step); for the wafer role, the discs
+    among the solids and the other selected objects are tagged in the same step. Says what to
+    do next; returns the new solids."""
+    from ..cad import roles
+    from ..cad.disc import NotADisc
+
+    doc = objects[0].Document
+    tagged = []
+    with transaction(doc, "Split compound into solids"):
+        solids = []
+        for compound in compounds:
+            solids += roles.split_compound(compound)
+        if role == "wafer":
+            for obj in [o for o in objects if o not in compounds]:
+                roles.tag_wafer(obj)  # one that is not a disc aborts the whole step
+                tagged.append(obj)
+            for solid in solids:
+                try:
+                    roles.tag_wafer(solid)
+                except NotADisc:
+                    continue
+                tagged.append(solid)
+    doc.recompute()
+    rest = [s for s in solids if s not in tagged]
+    Gui.Selection.clearSelection()
+    for solid in rest:
+        Gui.Selection.addSelection(solid)
+    names = ", ".join(o.Label for o in compounds)
+    if role == "wafer":
+        message = (f"Split {names} into {len(solids)} solids and tagged {len(tagged)} as wafers "
+                   f"({', '.join(o.Label for o in tagged) or 'none was a disc'}). Next: select "
+                   "the carrier among the other solids (selected now) and use Tag as carrier, "
+                   "then the sensor and Tag as scanner.")
+    else:
+        message = (f"Split {names} into {len(solids)} solids (selected now). Next: select the "
+                   f"{role} among them and use Tag as {role} again.")
+    report_info(message)
+    return solids
 
 
 def cross_check(doc):
@@ -242,6 +447,10 @@ def cross_check(doc):
                             f"and {len(check.runs)} sensor runs.",
                             QtGui.QMessageBox.Ok, Gui.getMainWindow())
     box.setDetailedText(text)
+    box.setWindowTitle(f"WaferScan cross-check: {doc.Label}")
+    for details in box.findChildren(QtGui.QTextEdit):  # a table: its columns line up
+        details.setFont(QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.FixedFont))
+        details.setLineWrapMode(QtGui.QTextEdit.NoWrap)
     box.setModal(False)
     box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()
@@ -253,9 +462,13 @@ def cross_check(doc):
 
 class _Command:
     menu, tip, icon = "", "", "WaferScan.svg"
+    shows_only = False  # True: usable even while another tool's task panel is open
 
     def GetResources(self):
-        return {"Pixmap": icon_path(self.icon), "MenuText": self.menu, "ToolTip": self.tip}
+        resources = {"Pixmap": icon_path(self.icon), "MenuText": self.menu, "ToolTip": self.tip}
+        if self.shows_only:
+            resources["CmdType"] = "ForEdit"
+        return resources
 
     def Activated(self):
         try:
@@ -341,6 +554,7 @@ class McsLinkCommand(_Command):
 
 
 class ResultsTableCommand(_Command):
+    shows_only = True
     menu, icon = "Results table", "WaferScan_Results.svg"
     tip = "The scan's results, slot by slot (the paper's Table 1); selecting a row selects the wafer"
 
@@ -349,6 +563,7 @@ class ResultsTableCommand(_Command):
 
 
 class SlotCodeCommand(_Command):
+    shows_only = True
     menu, icon = "Slot code", "WaferScan_SlotCode.svg"
     tip = "The slot code, its per-slot strip, a side view of the runs and the E87 map"
 
@@ -357,6 +572,7 @@ class SlotCodeCommand(_Command):
 
 
 class CrossCheckCommand(_Command):
+    shows_only = True
     menu, icon = "Cross-check with CAD", "WaferScan_CrossCheck.svg"
     tip = "Confirm every IN and OUT of the scan with FreeCAD's B-rep geometry (OpenCASCADE)"
 
@@ -365,6 +581,7 @@ class CrossCheckCommand(_Command):
 
 
 class PreferencesCommand(_Command):
+    shows_only = True
     menu, icon = "Preferences…", "WaferScan_Preferences.svg"
     tip = "Default tolerances, the MCS folder and the playback speed"
 

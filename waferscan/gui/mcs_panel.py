@@ -41,6 +41,22 @@ def _guarded(doc, scan):
     return guarded
 
 
+class _FittedTable(QtGui.QTableWidget):
+    """A table whose last column takes what the others leave of its width, never more: no
+    sideways scrolling in a narrow task panel (the full text is in each cell's tooltip)."""
+
+    def resizeEvent(self, event):  # noqa: N802 (Qt's name)
+        super().resizeEvent(event)
+        self.fit_last_column()
+
+    def fit_last_column(self):
+        header = self.horizontalHeader()
+        last = header.count() - 1
+        others = sum(header.sectionSize(c) for c in range(last) if not header.isSectionHidden(c))
+        header.resizeSection(last, max(header.minimumSectionSize(),
+                                       self.viewport().width() - others))
+
+
 class McsTaskPanel(ClosableTaskPanel):
     """Folder, parameters, start/stop watching, and the log of the commands carried out."""
 
@@ -86,9 +102,10 @@ class McsTaskPanel(ClosableTaskPanel):
         from_layout = QtGui.QPushButton("From layout")
         from_layout.setToolTip("Fill in every parameter with the layout's own value")
         from_layout.clicked.connect(self.fill_from_layout)
-        parameter_buttons = QtGui.QHBoxLayout()
-        for button in (from_layout, reload_button, self.save_button):
-            parameter_buttons.addWidget(button)
+        # Two buttons a row at most: the panel fits FreeCAD's default combo view (264 px).
+        parameter_buttons = QtGui.QGridLayout()
+        for index, button in enumerate((from_layout, reload_button, self.save_button)):
+            parameter_buttons.addWidget(button, index // 2, index % 2)
         parameters = QtGui.QGroupBox("parameters.txt")
         parameters_box = QtGui.QVBoxLayout(parameters)
         parameters_box.addWidget(self.editor)
@@ -105,14 +122,27 @@ class McsTaskPanel(ClosableTaskPanel):
         self.state = QtGui.QLabel("not watching")
         self.leaf = self.state
         self.state.setWordWrap(True)
-        self.log = QtGui.QTableWidget(0, len(LOG_COLUMNS))
+        self.log = _FittedTable(0, len(LOG_COLUMNS))
         self.log.setHorizontalHeaderLabels(list(LOG_COLUMNS))
         self.log.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
         self.log.verticalHeader().setVisible(False)
         self.log.verticalHeader().setDefaultSectionSize(20)
         self.log.horizontalHeader().setStretchLastSection(True)
+        # The short columns as wide as their text, the message in what is left (its full text
+        # in its tooltip): no sideways scrolling in a 264 px combo view.
+        header = self.log.horizontalHeader()
+        header.setDefaultSectionSize(40)  # first: Qt keeps a stretched section at least this wide
+        for column in range(len(LOG_COLUMNS) - 1):
+            header.setSectionResizeMode(column, QtGui.QHeaderView.ResizeToContents)
+        header.setMinimumSectionSize(24)
+        # Narrow headers and no time column on screen (each row's time is in its tooltips).
+        self.log.horizontalHeaderItem(2).setText("Cmd")
+        self.log.horizontalHeaderItem(2).setToolTip("Command")
+        self.log.setColumnHidden(0, True)
+        self.log.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
+        self.log.setWordWrap(False)
         self.log.setMinimumHeight(150)
-        watch_buttons = QtGui.QHBoxLayout()
+        watch_buttons = QtGui.QVBoxLayout()
         watch_buttons.addWidget(self.start_button)
         watch_buttons.addWidget(self.stop_button)
         watching = QtGui.QGroupBox("commands.txt")
@@ -129,6 +159,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self._folder = self.folder.text()
         self.load_parameters()
         self._buttons()
+        self.follow_document(doc)
 
     # --- the folder and parameters.txt -----------------------------------------------------
 
@@ -140,6 +171,16 @@ class McsTaskPanel(ClosableTaskPanel):
                                                         self.folder.text())
         if chosen:
             self.set_folder(chosen)
+
+    def _ask_folder(self, why):
+        """The folder field is empty: ask for a folder (FreeCAD's working directory is no
+        place for the MCS files). True when one was chosen; the editor's text is kept."""
+        chosen = QtGui.QFileDialog.getExistingDirectory(self.form, f"MCS folder: {why}", "")
+        if not chosen:
+            return False
+        self.folder.setText(chosen)
+        self._folder = self.folder.text()
+        return True
 
     def set_folder(self, folder):
         """Another folder: watching stops (start again to watch the new one), its
@@ -220,6 +261,10 @@ class McsTaskPanel(ClosableTaskPanel):
     def save_parameters(self):
         if self.validate() is not None:
             return False
+        if not self.folder.text().strip() and not self._ask_folder("where to save "
+                                                                    "parameters.txt"):
+            self._show_check(False, "no MCS folder: choose one with Browse…")
+            return False
         folder = self.folder_path()
         if not folder.is_dir():
             self._show_check(False, f"{folder}: no such folder")
@@ -242,8 +287,14 @@ class McsTaskPanel(ClosableTaskPanel):
     def start(self, events=True, poll_ms=None):
         """Watch commands.txt: on file-system events (``events``) and every ``poll_ms`` ms
         (0: no polling). Returns False with a message when the folder is not there."""
+        if not self.folder.text().strip():
+            if not self._ask_folder("the folder to watch"):
+                self._show_state("no MCS folder: choose one with Browse…", error=True)
+                return False
+            if self.editor.toPlainText() == self._shown:  # not edited: show the folder's
+                self.load_parameters()
         folder = self.folder_path()
-        if not self.folder.text().strip() or not folder.is_dir():
+        if not folder.is_dir():
             self._show_state(f"{folder}: no such folder", error=True)
             return False
         self.stop()
@@ -342,12 +393,12 @@ class McsTaskPanel(ClosableTaskPanel):
                  answer.status, answer.code or answer.message)
         for column, text in enumerate(cells):
             item = QtGui.QTableWidgetItem(text)
-            item.setToolTip(text)
+            item.setToolTip(f"{cells[0]}: {text}" if column else text)
             if column == 3:
                 item.setForeground(QtGui.QColor(29, 122, 46) if answer.status == "ok"
                                    else QtGui.QColor(192, 16, 16))
             self.log.setItem(row, column, item)
-        self.log.resizeColumnsToContents()
+        self.log.fit_last_column()
         self.log.scrollToBottom()
         line = (f"WaferScan: MCS seq {answer.seq} {answer.command}: {answer.status}"
                 f"{' ' + answer.code if answer.code else ''}"

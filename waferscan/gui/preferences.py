@@ -1,6 +1,6 @@
 """The workbench's preferences (Edit → Preferences → WaferScan): the mapping tolerances given to
 layouts that do not set their own, the MCS folder the link panel opens with, and the animation's
-playback speed. They live in FreeCAD's parameters under ``Mod/WaferScan``."""
+playback time. They live in FreeCAD's parameters under ``Mod/WaferScan``."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from .inputs import length_input, length_value, set_length
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 _DEFAULTS = MappingTolerances()
-STEPS_PER_FRAME = 10  # playback speed when nothing is set
+PLAYBACK_S = 10.0  # seconds of real time for a whole scan's animation, when nothing is set
 POLL_MS = 500  # the MCS panel's polling fallback
 
 
@@ -36,8 +36,9 @@ def mcs_folder():
     return _group().GetString("McsFolder", "")
 
 
-def steps_per_frame():
-    return max(1, _group().GetInt("StepsPerFrame", STEPS_PER_FRAME))
+def playback_seconds():
+    """How long the animation of a whole scan lasts, in seconds of real time."""
+    return max(0.5, _group().GetFloat("PlaybackSeconds", PLAYBACK_S))
 
 
 def set_values(thickness_tolerance=None, position_tolerance=None, protrusion_limit=None,
@@ -52,8 +53,8 @@ def set_values(thickness_tolerance=None, position_tolerance=None, protrusion_lim
         group.SetFloat("ProtrusionLimit", float(protrusion_limit))
     if folder is not None:
         group.SetString("McsFolder", str(folder))
-    if speed is not None:
-        group.SetInt("StepsPerFrame", max(1, int(speed)))
+    if speed is not None:  # seconds for a whole scan
+        group.SetFloat("PlaybackSeconds", max(0.5, float(speed)))
 
 
 class PreferencesPage:
@@ -95,11 +96,21 @@ class PreferencesPage:
         link_form.addRow("Folder", folder_row)
         animation = QtGui.QGroupBox("Animation")
         animation_form = QtGui.QFormLayout(animation)
-        self.speed = QtGui.QSpinBox()
-        self.speed.setRange(1, 100000)
-        self.speed.setSuffix(" steps per frame")
-        self.speed.setToolTip("Scan positions advanced per animation frame")
-        animation_form.addRow("Playback speed", self.speed)
+        self.speed = QtGui.QDoubleSpinBox()
+        self.speed.setRange(0.5, 3600.0)
+        self.speed.setDecimals(1)
+        self.speed.setSuffix(" s")
+        self.speed.setToolTip("Seconds of real time the animation of a whole scan lasts, on any "
+                              "machine")
+        animation_form.addRow("Playback time", self.speed)
+        self._loaded_speed = self._shown_speed = None
+        # Names for scripts and tests, as FreeCAD's own preference widgets have.
+        for widget, name in ((self.half_thickness, "HalfThickness"),
+                             (self.thickness, "ThicknessTolerance"),
+                             (self.position, "PositionTolerance"),
+                             (self.protrusion, "ProtrusionLimit"), (self.folder, "McsFolder"),
+                             (self.speed, "PlaybackSeconds")):
+            widget.setObjectName(name)
         layout = QtGui.QVBoxLayout(self.form)
         for box in (tolerances, link, animation):
             layout.addWidget(box)
@@ -118,14 +129,31 @@ class PreferencesPage:
         set_length(self.position, mapping.position_tolerance)
         set_length(self.protrusion, mapping.protrusion_limit)
         self.folder.setText(mcs_folder())
-        self.speed.setValue(steps_per_frame())
+        self._loaded_speed = playback_seconds()
+        self.speed.setValue(self._loaded_speed)
+        self._shown_speed = self.speed.value()  # rounded to the field's decimals
 
     def saveSettings(self):
-        set_values(thickness_tolerance=-1.0 if self.half_thickness.isChecked()
-                   else length_value(self.thickness),
-                   position_tolerance=length_value(self.position),
-                   protrusion_limit=length_value(self.protrusion),
-                   folder=self.folder.text().strip(), speed=self.speed.value())
+        """Store what the page shows. A field the user left alone stores the exact value it
+        was loaded with (not its rounded text); one typed wrong keeps its old value, and says
+        so in the report view (the dialog is closing)."""
+
+        def typed(field, name):
+            try:
+                return length_value(field)
+            except ValueError as exc:
+                App.Console.PrintError(f"WaferScan preferences: {name} not changed: {exc}\n")
+                return None
+
+        thickness = -1.0 if self.half_thickness.isChecked() else \
+            typed(self.thickness, "thickness tolerance")
+        speed = self.speed.value()
+        if self._loaded_speed is not None and speed == self._shown_speed:
+            speed = self._loaded_speed  # shown rounded, not edited: kept exactly
+        set_values(thickness_tolerance=thickness,
+                   position_tolerance=typed(self.position, "position tolerance"),
+                   protrusion_limit=typed(self.protrusion, "protrusion limit"),
+                   folder=self.folder.text().strip(), speed=speed)
 
 
 def register():

@@ -2,8 +2,9 @@
 FreeCAD 1.x may have PySide6 (``from PySide import ...`` works with both); and the task-panel
 interface the workbench's panels share."""
 
+import FreeCAD as App
 import FreeCADGui as Gui
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 try:
     from shiboken2 import isValid as _is_valid
@@ -23,9 +24,44 @@ class ClosableTaskPanel:
     says in ``shut_down`` what closing stops."""
 
     leaf = None
+    _observer = None
 
     def getStandardButtons(self):  # noqa: N802 (FreeCAD's names)
         return int(QtGui.QDialogButtonBox.Close)
+
+    # Our panels stay open for long (a scan's results, an MCS link watched for hours): while
+    # they are, FreeCAD's commands and ours stay usable (File → New, Edit → Delete, Results
+    # table…). FreeCAD greys out every command that alters the document, the view or the
+    # selection unless the open panel allows it (Command::testActive).
+    def isAllowedAlterDocument(self):  # noqa: N802
+        return True
+
+    def isAllowedAlterView(self):  # noqa: N802
+        return True
+
+    def isAllowedAlterSelection(self):  # noqa: N802
+        return True
+
+    def follow_document(self, doc):
+        """Shut the panel down and close it when the user closes ``doc``."""
+        self._observer = _DocumentClosed(doc.Name, self._document_closed)
+        App.addDocumentObserver(self._observer)
+
+    def _document_closed(self):
+        self._forget_document()
+        self.shut_down()
+        if self.is_open():
+            # Closed once FreeCAD has finished closing the document.
+            QtCore.QTimer.singleShot(0, self._close_if_open)
+
+    def _close_if_open(self):
+        if self.is_open():
+            Gui.Control.closeDialog()
+
+    def _forget_document(self):
+        if self._observer is not None:
+            App.removeDocumentObserver(self._observer)
+            self._observer = None
 
     def is_open(self):
         """Whether FreeCAD still shows this panel."""
@@ -35,9 +71,22 @@ class ClosableTaskPanel:
         raise NotImplementedError
 
     def reject(self):
+        self._forget_document()
         self.shut_down()
         Gui.Control.closeDialog()
         return True
 
     def accept(self):
         return self.reject()
+
+
+class _DocumentClosed:
+    """A FreeCAD document observer that calls ``then()`` when the document named ``name`` is
+    being closed (it can still be read then)."""
+
+    def __init__(self, name, then):
+        self.name, self.then = name, then
+
+    def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
+        if doc.Name == self.name:
+            self.then()

@@ -5,6 +5,7 @@ nothing is computed here."""
 from __future__ import annotations
 
 import csv
+from pathlib import Path
 
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -51,6 +52,15 @@ def store_in_document(doc, result):
     sheet.set(f"B{last + 1}", f"'{result.e87}")
     doc.recompute()
     return sheet
+
+
+def export_start(doc):
+    """Where Export CSV… starts: next to the saved document, named after it; for a document
+    never saved, in the user's home folder (not FreeCAD's working directory)."""
+    if doc is not None and doc.FileName:
+        return str(Path(doc.FileName).with_name(f"{Path(doc.FileName).stem}-results.csv"))
+    label = doc.Label if doc is not None else "results"
+    return str(Path.home() / f"{label}-results.csv")
 
 
 class ResultsTable(QtGui.QDialog):
@@ -108,7 +118,7 @@ class ResultsTable(QtGui.QDialog):
             writer.writerows(self.rows())
 
     def _export(self):
-        path, _ = QtGui.QFileDialog.getSaveFileName(self, "Export results", "results.csv",
+        path, _ = QtGui.QFileDialog.getSaveFileName(self, "Export results", export_start(self.doc),
                                                     "CSV (*.csv)")
         if path:
             self.export_csv(path)
@@ -136,7 +146,7 @@ class SlotCodeDialog(QtGui.QDialog):
         for slot in result.slot_map.slots:
             cell = QtGui.QLabel(f"{slot.slot}\n{slot.state}", self)
             cell.setAlignment(QtCore.Qt.AlignCenter)
-            cell.setMinimumSize(26, 44)
+            cell.setMinimumSize(18, 36)  # 25 slots fit a 1024 px screen
             r, g, b = STATE_COLOURS[slot.state]
             cell.setStyleSheet(f"background: rgb({r},{g},{b}); border: 1px solid #777;")
             cell.setToolTip(f"slot {slot.slot}: {STATE_NAMES[slot.state]}, E87 {E87[slot.state]}")

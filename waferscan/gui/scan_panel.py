@@ -5,29 +5,31 @@ from __future__ import annotations
 
 import html
 
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 from ..addon import icon_path
-from .inputs import length_input, set_length
+from .inputs import format_length, length_input, set_length
 from .qt import ClosableTaskPanel
 
 
 class ScanTaskPanel(ClosableTaskPanel):
     """Controls for a ``ScanAnimation``; closing the panel stops the animation."""
 
-    def __init__(self, animation, on_completed=None):
+    def __init__(self, animation, on_completed=None, on_replay=None):
         self.animation = animation
         self.on_completed = on_completed
+        self.on_replay = on_replay  # plays the same result again, in a fresh panel
         scan = animation.scan
         layout = animation.result.layout
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("WaferScan scan")
         self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_RunScan.svg")))
         steps = (f"exact edges, drawn at {animation.count} positions" if scan.exact
-                 else f"{scan.position_count} positions, step {scan.z_step:g} mm")
+                 else f"{scan.position_count} positions, step {format_length(scan.z_step)}")
         about = QtGui.QLabel(
-            f"Carrier <b>{layout.carrier}</b>: Z {scan.start_z:g} to {scan.final_z:g} mm, "
-            f"{steps}, {scan.mode} mode, direction {scan.direction}")
+            f"<b>{animation.doc.Label}</b>, carrier <b>{layout.carrier}</b>: Z "
+            f"{format_length(scan.start_z)} to {format_length(scan.final_z)}, {steps}, "
+            f"{scan.mode} mode, direction {scan.direction}")
         about.setWordWrap(True)
         self.z = length_input(scan.start_z, "Scan position: the emitter's Z", -1e6, 1e6)
         self.z.setReadOnly(True)
@@ -41,25 +43,34 @@ class ScanTaskPanel(ClosableTaskPanel):
         self.pause_button.setToolTip("Hold the robot where it is")
         self.stop_button = QtGui.QPushButton("Stop")
         self.stop_button.setToolTip("End the animation and put the robot back in its start pose")
+        self.replay_button = QtGui.QPushButton("Replay")
+        self.replay_button.setToolTip("Play the same scan again from the start")
         style = self.form.style()
         self.play_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaPlay))
         self.pause_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaPause))
         self.stop_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaStop))
-        self.speed = QtGui.QSpinBox()
-        self.speed.setRange(1, max(1, animation.frames))
-        self.speed.setValue(animation.steps_per_frame)
-        self.speed.setSuffix(" steps per frame")
-        self.speed.setToolTip("Playback speed: scan positions advanced per frame")
+        self.replay_button.setIcon(style.standardIcon(QtGui.QStyle.SP_MediaSkipBackward))
+        # Playback in real time: seconds for the whole scan, the same on any machine.
+        self.speed = QtGui.QDoubleSpinBox()
+        self.speed.setRange(0.5, 3600.0)
+        self.speed.setDecimals(1)
+        self.speed.setSingleStep(1.0)
+        self.speed.setSuffix(" s")
+        self.speed.setValue(animation.duration_s if animation.duration_s is not None
+                            else animation.frames / (60.0 * animation.steps_per_frame))
+        self.speed.setToolTip("Playback: seconds of real time for the whole scan")
         self.status = QtGui.QLabel("")
         self.leaf = self.status
         self.status.setWordWrap(True)
-        buttons = QtGui.QHBoxLayout()
-        for button in (self.play_button, self.pause_button, self.stop_button):
-            buttons.addWidget(button)
+        # Two buttons a row: the panel fits FreeCAD's default combo view (264 px wide).
+        buttons = QtGui.QGridLayout()
+        for index, button in enumerate((self.play_button, self.pause_button, self.stop_button,
+                                        self.replay_button)):
+            buttons.addWidget(button, index // 2, index % 2)
         form = QtGui.QFormLayout()
         form.addRow("Position", self.z)
         form.addRow("Beam", self.beam)
-        form.addRow("Speed", self.speed)
+        form.addRow("Playback", self.speed)
         layout_box = QtGui.QVBoxLayout(self.form)
         layout_box.addWidget(about)
         layout_box.addLayout(form)
@@ -70,10 +81,12 @@ class ScanTaskPanel(ClosableTaskPanel):
         self.play_button.clicked.connect(self.play)
         self.pause_button.clicked.connect(self.pause)
         self.stop_button.clicked.connect(animation.stop)
-        self.speed.valueChanged.connect(animation.set_speed)
+        self.replay_button.clicked.connect(self.replay)
+        self.speed.valueChanged.connect(animation.set_duration)
         animation.moved.connect(self._moved)
         animation.finished.connect(self._finished)
         self._buttons()
+        self.follow_document(animation.doc)
 
     def play(self):
         self.animation.play()
@@ -83,6 +96,12 @@ class ScanTaskPanel(ClosableTaskPanel):
         self.animation.pause()
         self._buttons()
 
+    def replay(self):
+        if self.animation.ended and self.on_replay is not None:
+            # Later: the replay replaces this panel, whose button is still being clicked.
+            seconds = self.speed.value()
+            QtCore.QTimer.singleShot(0, lambda: self.on_replay(seconds))
+
     def _buttons(self):
         if not self.is_open():  # FreeCAD closed the panel; the animation ran on
             return
@@ -91,6 +110,7 @@ class ScanTaskPanel(ClosableTaskPanel):
         self.play_button.setEnabled(not ended and not running)
         self.pause_button.setEnabled(running)
         self.stop_button.setEnabled(not ended)
+        self.replay_button.setEnabled(ended and self.on_replay is not None)
 
     def _moved(self, k, z):
         if not self.is_open():
@@ -117,8 +137,9 @@ class ScanTaskPanel(ClosableTaskPanel):
             if self.on_completed is not None:
                 self.on_completed()
         else:
-            self.status.setText(f"Stopped at Z {animation.z:.3f} mm; the results of the whole "
-                                "scan are in the results table")
+            self.status.setText(f"Stopped at Z {format_length(animation.z)}; the results of the "
+                                "whole scan are in the results table (WaferScan → Results "
+                                "table); Replay plays it again")
 
     def shut_down(self):
         self.animation.stop()

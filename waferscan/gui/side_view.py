@@ -23,7 +23,7 @@ class SideView(QtGui.QWidget):
             for index in slot.runs:
                 owner[index] = slot
         self.owner = owner
-        self.setMinimumSize(380, 520)
+        self.setMinimumSize(260, 300)  # the dialog fits a 1024×700 screen
         self.setToolTip("Side view of the carrier: the slots' supports (grey) and the sensor "
                         "runs (bars, IN to OUT) coloured by slot state")
 
