@@ -17,6 +17,9 @@ inside=/waferscan
 # One run at a time in a root: a second checkout mounted at the same place would hide the first.
 exec 8>"$root.run-lock"
 flock 8
+# A run killed outright (SIGKILL) leaves its mounts behind; with the lock held they are no one's.
+findmnt -rn -o TARGET | awk -v d="$root" 'index($0, d "/") == 1' | sort -r |
+  while read -r target; do umount -l "$target"; done
 
 mounted=()
 cleanup() {
