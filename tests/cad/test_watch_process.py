@@ -124,11 +124,10 @@ def small_disk(tmp_path):
 def test_a_full_disk_is_reported_and_nothing_counts_as_done(small_disk):
     folder = small_disk
     (folder / "commands.txt").write_text("1 SCF\n")
-    with open(folder / "filler", "wb") as handle:  # fill the disk to the last block
+    with open(folder / "filler", "wb", buffering=0) as handle:  # fill the disk to the last block
         try:
             while True:
                 handle.write(b"\0" * 1024)
-                handle.flush()
         except OSError:
             pass
     done = run_watch(folder, "--once")
