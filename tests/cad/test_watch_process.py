@@ -197,3 +197,28 @@ def test_soak_of_the_real_watcher_memory_flat(tmp_path, engine, count, limit_kib
     assert len(re.findall(r"^seq \d+ \w+: ok ", out, re.M)) == count
     growth = (samples[count] - samples[count // 4]) / (count - count // 4)
     assert growth < limit_kib, samples
+
+
+def test_the_layout_file_is_opened_again_when_it_changes(tmp_path):
+    from waferscan.cli import paper_scenario
+    layout = tmp_path / "layout.toml"
+    text = paper_scenario().read_text()
+    layout.write_text(text)
+    folder = tmp_path / "mcs"
+    folder.mkdir()
+    (folder / "commands.txt").write_text("1 SCF\n")
+    process = watch(folder, "--layout", layout)
+    try:
+        assert wait_for(lambda: "seq 1 " in Path(process.out.name).read_text(), 120)
+        load = next(line for line in text.splitlines() if line.startswith("load"))
+        layout.write_text(text.replace(load, 'load = "1000000000000000000000001"'))
+        assert wait_for(lambda: "changed, opened again" in Path(process.out.name).read_text(),
+                        60)
+        with open(folder / "commands.txt", "a") as handle:
+            handle.write("2 SCF\n")
+        assert wait_for(lambda: "seq 2 " in Path(process.out.name).read_text(), 120)
+    finally:
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    assert re.findall(r"^seq (\d) SCF: ok (\d+)$", out, re.M) == [
+        ("1", "1101221001220001010000010"), ("2", "1000000000000000000000001")]

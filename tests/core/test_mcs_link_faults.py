@@ -268,3 +268,25 @@ def test_history_holds_the_same_bytes_as_results(tmp_path):
     assert (tmp_path / "history" / "results-00000002.txt").read_bytes() == \
         (tmp_path / "results.txt").read_bytes()
     assert "seq = 1\n" in (tmp_path / "history" / "results-00000001.txt").read_text()
+
+
+def test_only_what_was_appended_is_read(tmp_path, monkeypatch):
+    write(tmp_path, "".join(f"{seq} SCF\n" for seq in range(1, 2001)))
+    (tmp_path / "results.txt").write_text("seq = 2000\n")
+    l = Link(tmp_path)
+    assert l.poll() == []
+    read = []
+    real_read = os.read
+
+    def counted(fd, size):
+        data = real_read(fd, size)
+        read.append(len(data))
+        return data
+
+    monkeypatch.setattr(mcs_link.os, "read", counted)
+    for _ in range(10):
+        assert l.poll() == []  # idle: not a byte read
+    assert read == []
+    write(tmp_path, "2001 SCS\n", "a")
+    assert l.poll() == [(2001, "SCS", "ok")]
+    assert read == [len("2001 SCS\n")]
