@@ -222,3 +222,35 @@ def test_the_layout_file_is_opened_again_when_it_changes(tmp_path):
         out, err = process.communicate(timeout=60)
     assert re.findall(r"^seq (\d) SCF: ok (\d+)$", out, re.M) == [
         ("1", "1101221001220001010000010"), ("2", "1000000000000000000000001")]
+
+
+def test_killed_at_random_moments_every_seq_is_answered_whole(tmp_path):
+    """SIGKILL the watcher 15 times while it answers 2,000 commands, starting it again each
+    time: every seq ends up answered once in the history, each answer whole, results.txt whole,
+    no temporary file left."""
+    import random
+    rng = random.Random(10)
+    count = 2000
+    (tmp_path / "commands.txt").write_text("".join(f"{seq} SCF\n" for seq in range(1, count + 1)))
+    reached = []
+    for _ in range(15):
+        process = watch(tmp_path, "--poll", "0.001")
+        time.sleep(rng.uniform(0.6, 1.0))  # start-up is ~0.5 s, then ~2 ms an answer
+        process.process.kill()
+        process.communicate(timeout=60)
+        reached.append(results_seq(tmp_path))
+    assert len({seq for seq in reached if seq is not None and seq < count}) >= 5, reached
+    done = run_watch(tmp_path, "--once")
+    assert done.returncode == 0, done.stderr
+    assert results_seq(tmp_path) == count
+    names = sorted(os.listdir(tmp_path / "history"))
+    oldest = int(names[0][8:16])  # the newest 1,000 are kept, pruned every 100 answers
+    assert 1000 <= count - oldest + 1 <= 1100
+    assert names == [f"results-{seq:08d}.txt" for seq in range(oldest, count + 1)]
+    whole = (tmp_path / "results.txt").read_text()
+    assert whole.split("\n")[-2].startswith("25\t")  # the table's last slot
+    for name in names:
+        text = (tmp_path / "history" / name).read_text()
+        assert text.count("\n") == whole.count("\n") and text.split("\n")[-2] == \
+            whole.split("\n")[-2], name
+    assert not [n for n in os.listdir(tmp_path) if n.endswith(".tmp")]

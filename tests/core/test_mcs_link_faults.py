@@ -290,3 +290,19 @@ def test_only_what_was_appended_is_read(tmp_path, monkeypatch):
     write(tmp_path, "2001 SCS\n", "a")
     assert l.poll() == [(2001, "SCS", "ok")]
     assert read == [len("2001 SCS\n")]
+
+
+def test_two_fsyncs_an_answer(tmp_path, monkeypatch):
+    """The answer file and the folder (before: four, history and results written apart)."""
+    synced = []
+    real_fsync = os.fsync
+
+    def fsync(fd):
+        synced.append(stat.S_ISDIR(os.fstat(fd).st_mode))
+        return real_fsync(fd)
+
+    write(tmp_path, "1 SCF\n2 SCS\n3 STOP\n")
+    l = Link(tmp_path)
+    monkeypatch.setattr(mcs_link.os, "fsync", fsync)
+    assert len(l.poll()) == 3
+    assert synced == [False, True] * 3

@@ -324,6 +324,7 @@ class McsLink:
         self._retry_at = 0.0
         self._faults = set()
         self._answers_since_prune = 0
+        self._catch_up_history()
         self._prune_history()
 
     # --- the folder's lock --------------------------------------------------------------
@@ -593,6 +594,22 @@ class McsLink:
         self._answers_since_prune += 1
         if self._answers_since_prune >= max(1, HISTORY_KEEP // 10):
             self._prune_history()
+
+    def _catch_up_history(self):
+        """A link killed between renaming results.txt and linking it into the history: the
+        history gets that answer now, so it holds every answer results.txt ever gave."""
+        if self._lock is None or self._done is None:
+            return
+        name = self.folder / HISTORY / f"results-{self._done:08d}.txt"
+        target = self.folder / RESULTS
+        try:
+            if os.path.lexists(name) or not stat.S_ISREG(os.lstat(target).st_mode):
+                return
+            text = read_regular_text(target, 64 << 20)
+        except (OSError, InputError):
+            return
+        if _SEQ.search(text[:4096]) and int(_SEQ.search(text[:4096]).group(1)) == self._done:
+            self._keep_in_history(self._done, target, text)
 
     def _prune_history(self):
         """Keep the newest HISTORY_KEEP answers in history/ (listed every HISTORY_KEEP / 10
