@@ -306,3 +306,24 @@ def test_two_fsyncs_an_answer(tmp_path, monkeypatch):
     monkeypatch.setattr(mcs_link.os, "fsync", fsync)
     assert len(l.poll()) == 3
     assert synced == [False, True] * 3
+
+
+def test_results_txt_a_symlink_is_replaced_not_followed_nor_its_mode_taken(tmp_path):
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep me\n")
+    folder = tmp_path / "mcs"
+    folder.mkdir()
+    (folder / "results.txt").symlink_to(outside)
+    write(folder, "1 SCF\n")
+    assert Link(folder).poll() == [(1, "SCF", "ok")]
+    assert outside.read_text() == "keep me\n"
+    assert not (folder / "results.txt").is_symlink()
+    assert stat.S_IMODE(os.stat(folder / "results.txt").st_mode) & 0o022 == 0
+
+
+def test_a_planted_lock_symlink_is_refused(tmp_path):
+    (tmp_path / ".waferscan.lock").symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(mcs_link.InputError) as caught:
+        Link(tmp_path)
+    assert str(caught.value) == f"{tmp_path / '.waferscan.lock'}: a symbolic link: the folder " \
+                                "cannot be locked; remove it"

@@ -291,7 +291,10 @@ def _mode_for(path):
     """The permission bits results.txt gets: those of the file it replaces, or 0666 less the
     umask for a new one."""
     try:
-        return stat.S_IMODE(os.stat(path, follow_symlinks=False).st_mode)
+        st = os.stat(path, follow_symlinks=False)
+        if stat.S_ISREG(st.st_mode):  # not a symlink's 0777
+            return stat.S_IMODE(st.st_mode)
+        raise FileNotFoundError(path)
     except OSError:
         umask = os.umask(0o022)
         os.umask(umask)
@@ -334,6 +337,9 @@ class McsLink:
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
         except OSError as exc:
+            if exc.errno == errno.ELOOP:  # planted to keep the link from locking: refused
+                raise InputError(path, None, "a symbolic link: the folder cannot be locked; "
+                                             "remove it") from None
             try:  # a read-only folder: the lock file may still be there to read-lock
                 fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
             except OSError:
