@@ -217,11 +217,19 @@ def test_the_layout_file_is_opened_again_when_it_changes(tmp_path):
         with open(folder / "commands.txt", "a") as handle:
             handle.write("2 SCF\n")
         assert wait_for(lambda: "seq 2 " in Path(process.out.name).read_text(), 120)
+        layout.write_text(text.replace("pitch = 10.0", "pitch = -10.0"))  # now it is broken
+        assert wait_for(lambda: "until it is fixed" in Path(process.err.name).read_text(), 60)
+        with open(folder / "commands.txt", "a") as handle:
+            handle.write("3 SCF\n")
+        assert wait_for(lambda: "seq 3 " in Path(process.out.name).read_text(), 120)
     finally:
         process.send_signal(signal.SIGINT)
         out, err = process.communicate(timeout=60)
+    assert process.returncode == 0 and "Traceback" not in err
     assert re.findall(r"^seq (\d) SCF: ok (\d+)$", out, re.M) == [
         ("1", "1101221001220001010000010"), ("2", "1000000000000000000000001")]
+    assert re.search(r"^seq 3 SCF: error \(.*layout.toml:\d+: \[\[carrier\]\] #1 pitch: ", out,
+                     re.M), out
 
 
 def test_killed_at_random_moments_every_seq_is_answered_whole(tmp_path):
