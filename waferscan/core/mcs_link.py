@@ -481,15 +481,19 @@ class McsLink:
                 self._fault(f"{self.folder / RESULTS}: {fault}; answered status = error")
                 answer = Answer(seq, name, "error", fault)
             self._unwritten.pop(0)
-            self._faults.clear()
+            self._cleared(str(self.folder / RESULTS))
             self._log_answer(answer)
             answers.append(answer)
         return True
 
     def _fault(self, message):
+        """Report a fault of the folder once, until it is cleared (the write worked again)."""
         if message not in self._faults:
             self._faults.add(message)
             self.report(message)
+
+    def _cleared(self, prefix):
+        self._faults = {f for f in self._faults if not f.startswith(prefix)}
 
     def _carry_out(self, command):
         """The command's answers as (seq, name, results text, Answer), in seq order."""
@@ -595,8 +599,11 @@ class McsLink:
                 with open(name, "x", encoding="utf-8", newline="\n") as handle:
                     handle.write(text)
         except OSError as exc:
-            self._fault(f"{history}: cannot keep the answer to seq {seq}: {_reason(exc)}")
+            self._fault(f"{history}: cannot keep answers (from seq {seq} on): {_reason(exc)}"
+                        if not any(f.startswith(str(history)) for f in self._faults) else
+                        next(f for f in self._faults if f.startswith(str(history))))
             return
+        self._cleared(str(history))
         self._answers_since_prune += 1
         if self._answers_since_prune >= max(1, HISTORY_KEEP // 10):
             self._prune_history()
