@@ -124,3 +124,27 @@ def test_a_urdf_that_is_not_urdf_is_bad_input(tmp_path):
     assert str(caught.value).startswith(f"{tmp_path / 'robot.urdf'}: not a URDF robot WaferScan "
                                         "can move (The file")
     assert "\n" not in str(caught.value)
+
+
+def cli(*args):
+    import subprocess
+    import sys
+    from pathlib import Path
+    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)],
+                          cwd=Path(__file__).resolve().parents[2], capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_the_command_line_refuses_overflows_with_exit_2(tmp_path):
+    params = tmp_path / "parameters.txt"
+    params.write_text("scan_speed = 1e200\nsensor_response = 1e200\n")
+    done = cli("scan", paper_scenario(), "--params", params)
+    assert (done.returncode, done.stderr) == (2, (
+        f"waferscan: error: {params}:2: sensor_response: scan_speed 1e+200 mm/s × "
+        "sensor_response 1e+200 s makes the sensor latch inf mm late; at most 100,000 mm\n"))
+    bad = scenario(tmp_path, "base_yaw = 0.0", "base_yaw = 1e308")
+    expected = f"waferscan: error: {bad}:{line_of(bad, 'base_yaw')}: [robot] base_yaw: must " \
+               "be within ±360 degrees, got 1e+308\n"
+    for args in (("crosscheck", bad), ("watch", tmp_path, "--layout", bad, "--once")):
+        done = cli(*args)
+        assert (done.returncode, done.stderr) == (2, expected)

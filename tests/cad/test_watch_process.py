@@ -124,11 +124,10 @@ def small_disk(tmp_path):
 def test_a_full_disk_is_reported_and_nothing_counts_as_done(small_disk):
     folder = small_disk
     (folder / "commands.txt").write_text("1 SCF\n")
-    with open(folder / "filler", "wb") as handle:  # fill the disk to the last block
+    with open(folder / "filler", "wb", buffering=0) as handle:  # fill the disk to the last block
         try:
             while True:
                 handle.write(b"\0" * 1024)
-                handle.flush()
         except OSError:
             pass
     done = run_watch(folder, "--once")
@@ -173,9 +172,9 @@ def rss_kib(pid):
 
 @pytest.mark.parametrize("engine, count, limit_kib", [
     # analytic: before the fix ~6.3 kB a command (every wafer's solid read again)
-    ("analytic", int(os.environ.get("WAFERSCAN_SOAK", "400")), 1.0),
+    ("analytic", int(os.environ.get("WAFERSCAN_SOAK", "400")), 3.0),
     # document at z_step 0.5 mm (541 steps): before the fix ~1 kB a step, ~540 kB a command
-    ("document", int(os.environ.get("WAFERSCAN_SOAK_DOCUMENT", "40")), 20.0),
+    ("document", int(os.environ.get("WAFERSCAN_SOAK_DOCUMENT", "40")), 50.0),
 ])
 def test_soak_of_the_real_watcher_memory_flat(tmp_path, engine, count, limit_kib):
     """RSS of a real ``waferscan watch`` from after its first quarter of commands to the end.
@@ -198,3 +197,68 @@ def test_soak_of_the_real_watcher_memory_flat(tmp_path, engine, count, limit_kib
     assert len(re.findall(r"^seq \d+ \w+: ok ", out, re.M)) == count
     growth = (samples[count] - samples[count // 4]) / (count - count // 4)
     assert growth < limit_kib, samples
+
+
+def test_the_layout_file_is_opened_again_when_it_changes(tmp_path):
+    from waferscan.cli import paper_scenario
+    layout = tmp_path / "layout.toml"
+    text = paper_scenario().read_text()
+    layout.write_text(text)
+    folder = tmp_path / "mcs"
+    folder.mkdir()
+    (folder / "commands.txt").write_text("1 SCF\n")
+    process = watch(folder, "--layout", layout)
+    try:
+        assert wait_for(lambda: "seq 1 " in Path(process.out.name).read_text(), 120)
+        load = next(line for line in text.splitlines() if line.startswith("load"))
+        layout.write_text(text.replace(load, 'load = "1000000000000000000000001"'))
+        assert wait_for(lambda: "changed, opened again" in Path(process.out.name).read_text(),
+                        60)
+        with open(folder / "commands.txt", "a") as handle:
+            handle.write("2 SCF\n")
+        assert wait_for(lambda: "seq 2 " in Path(process.out.name).read_text(), 120)
+        layout.write_text(text.replace("pitch = 10.0", "pitch = -10.0"))  # now it is broken
+        assert wait_for(lambda: "until it is fixed" in Path(process.err.name).read_text(), 60)
+        with open(folder / "commands.txt", "a") as handle:
+            handle.write("3 SCF\n")
+        assert wait_for(lambda: "seq 3 " in Path(process.out.name).read_text(), 120)
+    finally:
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    assert process.returncode == 0 and "Traceback" not in err
+    assert re.findall(r"^seq (\d) SCF: ok (\d+)$", out, re.M) == [
+        ("1", "1101221001220001010000010"), ("2", "1000000000000000000000001")]
+    assert re.search(r"^seq 3 SCF: error \(.*layout.toml:\d+: \[\[carrier\]\] #1 pitch: ", out,
+                     re.M), out
+
+
+def test_killed_at_random_moments_every_seq_is_answered_whole(tmp_path):
+    """SIGKILL the watcher 15 times while it answers 2,000 commands, starting it again each
+    time: every seq ends up answered once in the history, each answer whole, results.txt whole,
+    no temporary file left."""
+    import random
+    rng = random.Random(10)
+    count = 2000
+    (tmp_path / "commands.txt").write_text("".join(f"{seq} SCF\n" for seq in range(1, count + 1)))
+    reached = []
+    for _ in range(15):
+        process = watch(tmp_path, "--poll", "0.001")
+        time.sleep(rng.uniform(0.6, 1.0))  # start-up is ~0.5 s, then ~2 ms an answer
+        process.process.kill()
+        process.communicate(timeout=60)
+        reached.append(results_seq(tmp_path))
+    assert len({seq for seq in reached if seq is not None and seq < count}) >= 5, reached
+    done = run_watch(tmp_path, "--once")
+    assert done.returncode == 0, done.stderr
+    assert results_seq(tmp_path) == count
+    names = sorted(os.listdir(tmp_path / "history"))
+    oldest = int(names[0][8:16])  # the newest 1,000 are kept, pruned every 100 answers
+    assert 1000 <= count - oldest + 1 <= 1100
+    assert names == [f"results-{seq:08d}.txt" for seq in range(oldest, count + 1)]
+    whole = (tmp_path / "results.txt").read_text()
+    assert whole.split("\n")[-2].startswith("25\t")  # the table's last slot
+    for name in names:
+        text = (tmp_path / "history" / name).read_text()
+        assert text.count("\n") == whole.count("\n") and text.split("\n")[-2] == \
+            whole.split("\n")[-2], name
+    assert not [n for n in os.listdir(tmp_path) if n.endswith(".tmp")]

@@ -207,8 +207,8 @@ def test_history_a_file_still_answers_and_reports(tmp_path):
     assert l.poll() == [(1, "SCF", "ok"), (2, "SCF", "ok")]
     assert results_header(tmp_path)["seq"] == "2"
     assert (tmp_path / "history").read_text() == "the user's file"
-    assert l.reported[0] == (f"{tmp_path / 'history'}: cannot keep the answer to seq 1: not a "
-                             "folder (a file or a symbolic link)")
+    assert l.reported == [f"{tmp_path / 'history'}: cannot keep answers (from seq 1 on): not "
+                          "a folder (a file or a symbolic link)"]  # once, not per answer
 
 
 def test_disk_full_answers_briefly_or_waits(tmp_path, monkeypatch):
@@ -268,3 +268,62 @@ def test_history_holds_the_same_bytes_as_results(tmp_path):
     assert (tmp_path / "history" / "results-00000002.txt").read_bytes() == \
         (tmp_path / "results.txt").read_bytes()
     assert "seq = 1\n" in (tmp_path / "history" / "results-00000001.txt").read_text()
+
+
+def test_only_what_was_appended_is_read(tmp_path, monkeypatch):
+    write(tmp_path, "".join(f"{seq} SCF\n" for seq in range(1, 2001)))
+    (tmp_path / "results.txt").write_text("seq = 2000\n")
+    l = Link(tmp_path)
+    assert l.poll() == []
+    read = []
+    real_read = os.read
+
+    def counted(fd, size):
+        data = real_read(fd, size)
+        read.append(len(data))
+        return data
+
+    monkeypatch.setattr(mcs_link.os, "read", counted)
+    for _ in range(10):
+        assert l.poll() == []  # idle: not a byte read
+    assert read == []
+    write(tmp_path, "2001 SCS\n", "a")
+    assert l.poll() == [(2001, "SCS", "ok")]
+    assert read == [len("2001 SCS\n")]
+
+
+def test_two_fsyncs_an_answer(tmp_path, monkeypatch):
+    """The answer file and the folder (before: four, history and results written apart)."""
+    synced = []
+    real_fsync = os.fsync
+
+    def fsync(fd):
+        synced.append(stat.S_ISDIR(os.fstat(fd).st_mode))
+        return real_fsync(fd)
+
+    write(tmp_path, "1 SCF\n2 SCS\n3 STOP\n")
+    l = Link(tmp_path)
+    monkeypatch.setattr(mcs_link.os, "fsync", fsync)
+    assert len(l.poll()) == 3
+    assert synced == [False, True] * 3
+
+
+def test_results_txt_a_symlink_is_replaced_not_followed_nor_its_mode_taken(tmp_path):
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep me\n")
+    folder = tmp_path / "mcs"
+    folder.mkdir()
+    (folder / "results.txt").symlink_to(outside)
+    write(folder, "1 SCF\n")
+    assert Link(folder).poll() == [(1, "SCF", "ok")]
+    assert outside.read_text() == "keep me\n"
+    assert not (folder / "results.txt").is_symlink()
+    assert stat.S_IMODE(os.stat(folder / "results.txt").st_mode) & 0o022 == 0
+
+
+def test_a_planted_lock_symlink_is_refused(tmp_path):
+    (tmp_path / ".waferscan.lock").symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(mcs_link.InputError) as caught:
+        Link(tmp_path)
+    assert str(caught.value) == f"{tmp_path / '.waferscan.lock'}: a symbolic link: the folder " \
+                                "cannot be locked; remove it"

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import sys
 import time
+import traceback
 from pathlib import Path
 
 import FreeCAD as App
@@ -171,8 +172,15 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
             return 1 if link.unanswered else 0  # the fault is on stderr
         out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
         checked = time.monotonic()
+        faults = set()
         while True:
-            link.poll()
+            try:
+                link.poll()
+            except Exception as exc:  # a fault of ours: said once, and the watching goes on
+                if repr(exc) not in faults:
+                    faults.add(repr(exc))
+                    err(f"internal error, still watching\n{traceback.format_exc().rstrip()}")
+                time.sleep(max(poll, 1.0))
             time.sleep(poll)
             if time.monotonic() - checked >= LAYOUT_CHECK_SECONDS:
                 checked = time.monotonic()
@@ -187,7 +195,10 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
                         doc = open_layout(layout_path)
                         scanner = document_scanner(doc, folder, engine)
                         out(f"{layout_path}: changed, opened again")
-                    except InputError as exc:
+                    except Exception as exc:  # noqa: BLE001 (any reason: answered, not fatal)
+                        if not isinstance(exc, InputError):
+                            exc = InputError(layout_path, None, f"cannot open it: "
+                                             f"{type(exc).__name__}: {exc}")
                         scanner = _FailingScanner(exc)
                         err(f"{exc} (each scan is answered with this until it is fixed)")
                     link.scan = scanner

@@ -291,7 +291,10 @@ def _mode_for(path):
     """The permission bits results.txt gets: those of the file it replaces, or 0666 less the
     umask for a new one."""
     try:
-        return stat.S_IMODE(os.stat(path, follow_symlinks=False).st_mode)
+        st = os.stat(path, follow_symlinks=False)
+        if stat.S_ISREG(st.st_mode):  # not a symlink's 0777
+            return stat.S_IMODE(st.st_mode)
+        raise FileNotFoundError(path)
     except OSError:
         umask = os.umask(0o022)
         os.umask(umask)
@@ -324,6 +327,7 @@ class McsLink:
         self._retry_at = 0.0
         self._faults = set()
         self._answers_since_prune = 0
+        self._catch_up_history()
         self._prune_history()
 
     # --- the folder's lock --------------------------------------------------------------
@@ -333,6 +337,9 @@ class McsLink:
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
         except OSError as exc:
+            if exc.errno == errno.ELOOP:  # planted to keep the link from locking: refused
+                raise InputError(path, None, "a symbolic link: the folder cannot be locked; "
+                                             "remove it") from None
             try:  # a read-only folder: the lock file may still be there to read-lock
                 fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
             except OSError:
@@ -474,15 +481,19 @@ class McsLink:
                 self._fault(f"{self.folder / RESULTS}: {fault}; answered status = error")
                 answer = Answer(seq, name, "error", fault)
             self._unwritten.pop(0)
-            self._faults.clear()
+            self._cleared(str(self.folder / RESULTS))
             self._log_answer(answer)
             answers.append(answer)
         return True
 
     def _fault(self, message):
+        """Report a fault of the folder once, until it is cleared (the write worked again)."""
         if message not in self._faults:
             self._faults.add(message)
             self.report(message)
+
+    def _cleared(self, prefix):
+        self._faults = {f for f in self._faults if not f.startswith(prefix)}
 
     def _carry_out(self, command):
         """The command's answers as (seq, name, results text, Answer), in seq order."""
@@ -588,11 +599,30 @@ class McsLink:
                 with open(name, "x", encoding="utf-8", newline="\n") as handle:
                     handle.write(text)
         except OSError as exc:
-            self._fault(f"{history}: cannot keep the answer to seq {seq}: {_reason(exc)}")
+            self._fault(f"{history}: cannot keep answers (from seq {seq} on): {_reason(exc)}"
+                        if not any(f.startswith(str(history)) for f in self._faults) else
+                        next(f for f in self._faults if f.startswith(str(history))))
             return
+        self._cleared(str(history))
         self._answers_since_prune += 1
         if self._answers_since_prune >= max(1, HISTORY_KEEP // 10):
             self._prune_history()
+
+    def _catch_up_history(self):
+        """A link killed between renaming results.txt and linking it into the history: the
+        history gets that answer now, so it holds every answer results.txt ever gave."""
+        if self._lock is None or self._done is None:
+            return
+        name = self.folder / HISTORY / f"results-{self._done:08d}.txt"
+        target = self.folder / RESULTS
+        try:
+            if os.path.lexists(name) or not stat.S_ISREG(os.lstat(target).st_mode):
+                return
+            text = read_regular_text(target, 64 << 20)
+        except (OSError, InputError):
+            return
+        if _SEQ.search(text[:4096]) and int(_SEQ.search(text[:4096]).group(1)) == self._done:
+            self._keep_in_history(self._done, target, text)
 
     def _prune_history(self):
         """Keep the newest HISTORY_KEEP answers in history/ (listed every HISTORY_KEEP / 10

@@ -63,6 +63,7 @@ class McsTaskPanel(ClosableTaskPanel):
     def __init__(self, doc, folder=None):
         self.doc = doc
         self.link = None
+        self.scanner = None  # the link's document scanner: it follows the document's changes
         self.watcher = None
         self.timer = QtCore.QTimer()
         self.timer.timeout.connect(self.poll)
@@ -298,10 +299,12 @@ class McsTaskPanel(ClosableTaskPanel):
             self._show_state(f"{folder}: no such folder", error=True)
             return False
         self.stop()
+        self.scanner = document_scanner(self.doc, folder)
         try:
-            self.link = McsLink(folder, _guarded(self.doc, document_scanner(self.doc, folder)),
+            self.link = McsLink(folder, _guarded(self.doc, self.scanner),
                                 log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
         except InputError as exc:  # another link (waferscan watch) holds the folder
+            self.stop()
             self._show_state(str(exc), error=True)
             return False
         poll_ms = preferences.POLL_MS if poll_ms is None else poll_ms
@@ -331,6 +334,9 @@ class McsTaskPanel(ClosableTaskPanel):
             self.link.close()  # gives the folder's lock back
             App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
         self.link = None
+        if self.scanner is not None:
+            self.scanner.close()
+            self.scanner = None
         # FreeCAD deletes the widgets of a panel it closed (the form itself may look alive).
         if self.is_open():
             self._show_state("not watching")
