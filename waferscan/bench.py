@@ -357,7 +357,7 @@ def bench_startup(layout_path, paper, rounds, add):
     times, _ = interleaved({name: (lambda c=command: _run(c)) for name, command in
                             commands.items()}, rounds)
     for name in commands:
-        add(row("startup", name, paper, [t for t in times[name]]))
+        add(row("startup", name, paper, times[name]))
 
 
 def bench_processes(folder, foup_counts, add):
