@@ -777,7 +777,7 @@ def plot(report, target):
             ax.plot(x, y, "o", color=colour, fillstyle="none" if part else "full")
     titles = (("cost against steps (paper layout, 10 wafers)", "stepped positions",
                "seconds per scan (median)"),
-              ("cost against wafers (stacked: every wafer hit)", "wafers", "seconds (median)"),
+              ("cost against wafers", "wafers", "seconds (median)"),
               ("idle MCS link against history", "lines in commands.txt",
                "CPU seconds per second"))
     for ax, (title, xlabel, ylabel) in zip(axes, titles):
