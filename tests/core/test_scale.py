@@ -4,13 +4,17 @@ engine's memory bound. (How fast they are is `waferscan bench`'s business, not a
 
 import random
 import tracemalloc
+from dataclasses import replace
+
+import pytest
 
 from random_layouts import random_layout
 from waferscan.bench import fab_layout, stack_layout
 from waferscan.cli import paper_scenario
-from waferscan.core.engines import StepHits, run_engine, vector_engine
+from waferscan.core.engines import StepHits, loop_engine, run_engine, vector_engine
 from waferscan.core.geometry import accessible, accessible_wafers
 from waferscan.core.scan import scan_layout
+from waferscan.core.model import Wafer
 from waferscan.core.scenario import read_scenario
 
 
@@ -84,3 +88,23 @@ def test_the_vector_engine_bounds_its_memory():
         tracemalloc.stop()
     assert peak < 40e6
     assert hits == run_engine("analytic", fab)
+
+
+@pytest.mark.parametrize("z_step", [0.05, 0.002])
+def test_level_wafers_settled_without_a_test_agree_with_loop(z_step):
+    """The analytic engine places a level wafer's steps without testing the positions next to
+    its edges when none is near them. Seats on the grid, and off it by a touch tolerance or a
+    few rounding units either way: the same steps as loop, position for position."""
+    base = read_scenario(paper_scenario())
+    offsets = [0.0, 1e-9, -1e-9, 2e-9, -2e-9, 1e-12, -1e-12, 5e-10, 1e-7, -1e-7, 0.3 * z_step]
+    carrier = base.scanned_carrier
+    wafers = []
+    for slot, offset in enumerate(offsets, start=1):
+        seat = base.scan.start_z + round((carrier.seat_z(slot) - base.scan.start_z) / z_step) \
+            * z_step + offset
+        wafers.append(Wafer(name=f"W{slot}", center=(carrier.center[0], carrier.center[1], seat),
+                            normal=(0.0, 0.0, 1.0), diameter=carrier.wafer_diameter,
+                            thickness=round(0.7 / z_step) * z_step))
+    layout = replace(base, wafers=tuple(wafers), robot=None,
+                     scan=replace(base.scan, z_step=z_step, final_z=carrier.seat_z(13)))
+    assert run_engine("analytic", layout) == loop_engine(layout)

@@ -27,10 +27,11 @@ def add_named(doc, kind, label):
 
     FreeCAD quirk (FREECAD-NOTES): an object name already taken makes ``addObject`` search
     every object for a free one: O(n) a call, O(n^2) for a layout (10,000 wafers took minutes).
-    A layout's labels are unique, so the names made from them are too. (The other O(n) search,
-    of every label, is what ``unchecked_labels`` turns off.)"""
+    A layout's labels are unique, so the names made from them are too, but for labels that differ
+    only in characters a name cannot have. (The other O(n) search, of every label, is what
+    ``builder.unchecked_labels`` turns off.)"""
     name = object_name(label)
-    # A taken name (a label FreeCAD had to change, a document built into twice) falls back on
+    # A taken name (two labels making one name, a document built into twice) falls back on
     # FreeCAD's own search, slow but correct.
     obj = doc.addObject(kind, name)
     if obj.Label != label:

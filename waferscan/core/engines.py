@@ -168,6 +168,40 @@ def geometric_edges(layout, wafer, touching):
     return exact
 
 
+# How far a grid position must be from a level wafer's edge for ``_settled_steps`` to place it
+# without a test, relative to the size of the coordinates: the edges and the loop engine's test
+# are exact to a few units of the last place (~1e-16 relative), this is a thousand times more,
+# and below the touch tolerance (1e-9 mm) at the coordinates of a fab (< 1 m), so that a seat
+# on the grid is settled too.
+SETTLED_MARGIN = 1e-12
+
+
+def _is_level(layout, wafer):
+    """The common case of ``translation_range``: a wafer lying flat, lifted along its axis (Z),
+    the beam along its faces. Its edges are its faces' heights (widened by the touch tolerance)
+    to rounding, and the beam meets it at every position between them."""
+    return (wafer.normal == (0.0, 0.0, 1.0) and layout.lift_axis == (0.0, 0.0, 1.0)
+            and layout.beam.direction[2] == 0.0)
+
+
+def _settled_steps(layout, edges):
+    """The stepped interval of a level wafer when no grid position lies near either edge (within
+    SETTLED_MARGIN of the coordinates' size): then every position is on the side of the edges
+    that it is by more than any rounding, and the ``loop`` engine's test would find just that.
+    None when not so (the positions next to the edges are then tested)."""
+    scan = layout.scan
+    size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]),
+               abs(edges[0]), abs(edges[1]))
+    margin = SETTLED_MARGIN * size / scan.z_step
+    x0 = (edges[0] - scan.start_z) / scan.z_step
+    x1 = (edges[1] - scan.start_z) / scan.z_step
+    lo, hi = math.ceil(x0), math.floor(x1)
+    if min(lo - x0, x0 - lo + 1, x1 - hi, hi + 1 - x1) <= margin:
+        return None
+    lo, hi = max(0, lo), min(scan.last_step, hi)
+    return (lo, hi) if lo <= hi else None
+
+
 def _snap_to_grid(layout, wafer, edges):
     """The stepped interval of one wafer from its exact edges. The closed-form edges are exact
     to rounding; the grid steps next to each edge are then settled with the very test the
@@ -223,7 +257,8 @@ def analytic_engine(layout, progress=None):
             else:
                 runs.append((first, last))
         return ExactHits(tuple(clipped), tuple(runs))
-    steps = tuple(None if e is None else _snap_to_grid(layout, w, e)
+    steps = tuple(None if e is None else
+                  (_is_level(layout, w) and _settled_steps(layout, e)) or _snap_to_grid(layout, w, e)
                   for w, e in zip(layout.wafers, edges))
     return StepHits(scan.position_count, steps, runs_from_intervals(steps))
 
