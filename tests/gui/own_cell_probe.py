@@ -136,6 +136,19 @@ def set_scanner(obj):
     obj.Receiver = inverse.multVec(App.Vector(250, 66.6, 152))
 
 
+def sensor_view(doc):
+    return {o.Label: o for o in doc.Objects}["Sensor"].ViewObject
+
+
+def look(doc, panel):
+    """The walls' and wafers' transparency, and whether the beam is drawn over the sensor."""
+    by_label = {o.Label: o for o in doc.Objects}
+    return [{label: by_label[label].ViewObject.Transparency
+             for label in ("Base", "Left", "Right", "W1", "W3")},
+            panel.animation.overlay is not None and
+            panel.animation.overlay.node in list(sensor_view(doc).RootNode.getChildren())]
+
+
 def begin():
     Gui.activateWorkbench("WaferScanWorkbench")
     model()
@@ -238,10 +251,13 @@ def link_group():
     result["link_scene"] = {"wafers": [i.path for i in scene.wafers],
                             "carriers": [i.path for i in scene.carriers],
                             "scanners": [i.path for i in scene.scanners]}
+    colour = tuple(sensor_view(doc).ShapeColor)
     Gui.runCommand("WaferScan_RunScan")
     result["link_errors"] = messages()
     from waferscan.gui import commands
     panel = commands._session["panel"]
+    state["sensor_colour"] = colour
+    result["link_running_look"] = look(doc, panel) + [tuple(sensor_view(doc).ShapeColor) == colour]
     state["doc"], state["panel"] = doc, panel
     panel.speed.setValue(panel.speed.minimum())  # seconds: fast
     wait_for("the link cell's scan", lambda: panel.animation.ended, link_done)
@@ -251,6 +267,8 @@ def link_done():
     from waferscan.gui import commands
     doc = state["doc"]
     result["link_code"] = commands.last_result(doc).code
+    result["link_after_look"] = look(doc, commands._session["panel"]) + [
+        tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))
     Gui.Control.closeDialog()
     for dialog in commands._session["dialogs"]:

@@ -54,7 +54,7 @@ def test_re_tagging_a_wafer_asks_first(cell):
 
 def test_tagging_a_carrier_says_what_to_set_in_a_dialog(cell):
     gui, _ = cell
-    assert any("SlotCount" in text for text in gui["tag_messages"])
+    assert any("SlotCount" in text for text in gui["tag_messages"]), gui["tag_messages"]
     assert any("Emitter" in text for text in gui["tag_messages"])
 
 
@@ -67,6 +67,16 @@ def test_two_carriers_ask_which_to_scan_and_the_range_is_the_slots(cell):
     assert "5 mm" in gui["merged_about"] and "55 mm" in gui["merged_about"]
     with opened_layout(folder / "merged-cell.FCStd") as doc:
         assert scan_document(doc, "analytic").code == CODE
+
+
+def test_a_container_carrier_turns_see_through_and_a_solid_scanner_keeps_its_colour(cell):
+    gui, _ = cell
+    walls, beam_drawn, colour_kept = gui["link_running_look"]
+    assert walls == {"Base": 70, "Left": 70, "Right": 70, "W1": 0, "W3": 0}
+    assert beam_drawn is True and colour_kept is True
+    walls, beam_drawn, colour_kept = gui["link_after_look"]
+    assert walls == {"Base": 0, "Left": 0, "Right": 0, "W1": 0, "W3": 0}
+    assert beam_drawn is False and colour_kept is True
 
 
 def test_a_link_group_import_is_scanned_as_the_tree_shows_it(cell):

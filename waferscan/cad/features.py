@@ -15,15 +15,33 @@ from ..core.model import DIRECTIONS, MODES
 from . import roles
 
 
+# The GUI's view providers (an icon per role), given by the GUI layer when it is up, as Draft
+# attaches its own only then; this layer does not import the GUI. None: FreeCAD's default.
+view_provider = None
+
+
+def _give_view_provider(obj):
+    if not App.GuiUp or obj.ViewObject is None or obj.ViewObject.Proxy:
+        return
+    never_viewed = obj.ViewObject.Proxy is None  # made now, or saved without a GUI
+    if view_provider is not None and view_provider(obj):
+        # FreeCAD quirk: a document saved headless opens with its Python features hidden (no
+        # view provider to draw them): the solids are shown, as when they were built.
+        if never_viewed and obj.isDerivedFrom("Part::Feature"):
+            obj.ViewObject.Visibility = True
+        return
+    if obj.ViewObject.Proxy is None:
+        # FreeCAD quirk: a FeaturePython made in a GUI session is drawn only once its view
+        # object has a proxy; 0 asks for the default view provider.
+        obj.ViewObject.Proxy = 0
+
+
 class _Proxy:
     """Base of WaferScan's feature proxies: nothing but a type to save."""
 
     def __init__(self, obj):
         obj.Proxy = self
-        if App.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-            # FreeCAD quirk: a FeaturePython made in a GUI session is drawn only once its view
-            # object has a proxy; 0 asks for the default view provider.
-            obj.ViewObject.Proxy = 0
+        _give_view_provider(obj)
 
     def dumps(self):
         return {"type": type(self).__name__}
@@ -36,6 +54,8 @@ class _Proxy:
 
     def onDocumentRestored(self, obj):
         obj.Proxy = self
+        # A document built headless has no view providers saved: the GUI gives them now.
+        _give_view_provider(obj)
 
 
 def carrier_solids(slot_count, pitch, wafer_diameter, support_span):

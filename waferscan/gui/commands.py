@@ -340,6 +340,10 @@ def tag_selection(role, selection=None):
         for obj in objects:
             _tag(role, obj)
     doc.recompute()
+    from .view_providers import ViewProviderRole, attach
+    for obj in objects:  # a Python feature shows its new role's icon
+        if attach(obj) or isinstance(getattr(obj.ViewObject, "Proxy", None), ViewProviderRole):
+            obj.ViewObject.signalChangeIcon()
     names = ", ".join(o.Label for o in objects)
     message = f"Tagged {names} as {role}: {TAG_HINTS[role]}."
     if role == "wafer":  # nothing to set: the status bar is enough
@@ -507,10 +511,9 @@ class OpenScenario(_Command):
 
 
 class Tag(_Command):
-    icon = "WaferScan_TagSelection.svg"
-
     def __init__(self, role, tip):
         self.role, self.menu, self.tip = role, f"Tag as {role}", tip
+        self.icon = f"WaferScan_Tag{role.capitalize()}.svg"
 
     def run(self):
         tag_selection(self.role)

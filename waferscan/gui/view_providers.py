@@ -1,0 +1,63 @@
+"""View providers of WaferScan's own document objects (carrier body, scanner beam, scan
+settings): each shows its role's icon in the tree. As Draft does, they are attached only when
+the GUI is up: when such an object is made in a GUI session, and when a document saved without
+them (built headless, by the command line or a script) is opened in the GUI.
+
+FreeCAD 0.20 lets Python give a view provider only to Python features; a user's solid tagged
+with a role (a Part::Box, an imported STEP solid) keeps the icon of its own type."""
+
+from __future__ import annotations
+
+import FreeCAD as App
+
+from ..addon import icon_path
+from ..cad import roles
+
+ROLE_ICONS = {roles.WAFER: "WaferScan_Wafer.svg", roles.CARRIER: "WaferScan_Carrier.svg",
+              roles.SCANNER: "WaferScan_Scanner.svg", roles.SETTINGS: "WaferScan_ScanSettings.svg",
+              roles.ROBOT: "WaferScan.svg"}
+
+
+def role_icon(role):
+    """The icon file of a role (the workbench's icon for an object without one)."""
+    return icon_path(ROLE_ICONS.get(role, "WaferScan.svg"))
+
+
+class ViewProviderRole:
+    """FreeCAD's default drawing of the object, with its role's icon."""
+
+    def __init__(self, vobj):
+        vobj.Proxy = self
+        self.Object = vobj.Object
+
+    def attach(self, vobj):
+        self.Object = vobj.Object
+
+    def getIcon(self):  # noqa: N802 (FreeCAD's name)
+        return role_icon(roles.role_of(self.Object))
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+    __getstate__ = dumps
+    __setstate__ = loads
+
+
+def attach(obj):
+    """Give ``obj`` the role view provider when it can take one (a Python feature in a GUI
+    session without a view-provider proxy of its own); returns whether it did."""
+    view = getattr(obj, "ViewObject", None)
+    if not App.GuiUp or view is None or "Proxy" not in view.PropertiesList or view.Proxy:
+        return False  # a C++ view provider (a Part::Box...) has no Proxy to give
+    ViewProviderRole(view)
+    return True
+
+
+def install():
+    """Let the CAD layer attach these view providers (it does not import the GUI)."""
+    from ..cad import features
+
+    features.view_provider = attach
