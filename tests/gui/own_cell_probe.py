@@ -267,6 +267,12 @@ def link_done():
     from waferscan.gui import commands
     doc = state["doc"]
     result["link_code"] = commands.last_result(doc).code
+    # The Python console shows the calls the commands made, as a script would make them.
+    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
+                if w.objectName() == "Python console"]
+    result["console_calls"] = [line.strip().lstrip(">").strip()
+                               for line in consoles[0].toPlainText().splitlines()
+                               if "waferscan.gui.commands." in line] if consoles else None
     result["link_after_look"] = look(doc, commands._session["panel"]) + [
         tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))

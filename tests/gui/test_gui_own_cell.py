@@ -3,6 +3,7 @@ FreeCAD's default import settings, tagged and scanned with the workbench's comma
 commands stay usable while a task panel is open; closing the document during a scan ends the
 panel cleanly."""
 
+import re
 from pathlib import Path
 
 import pytest
@@ -115,3 +116,15 @@ def test_closing_the_document_during_a_scan_ends_and_closes_the_panel(cell):
 
 def test_screenshot_saved():
     assert (ARTIFACTS / "gui-own-cell.png").stat().st_size > 1000
+
+
+def test_the_commands_are_recorded_as_python_calls(cell):
+    gui, _ = cell
+    calls = gui["console_calls"]
+    wafers = re.compile(r"waferscan\.gui\.commands\.tag_selection\('wafer', \["
+                        r"App\.getDocument\('LinkCell'\)\.getObject\('Solid\d+'\), "
+                        r"App\.getDocument\('LinkCell'\)\.getObject\('Solid\d+'\)\]\)")
+    assert any(wafers.fullmatch(c) for c in calls), calls
+    assert "waferscan.gui.commands.run_scan(App.getDocument('LinkCell'))" in calls
+    assert "waferscan.gui.commands.show_results_dialogs(App.getDocument('MergedCell'), " \
+        "('table',))" in calls

@@ -462,6 +462,23 @@ def cross_check(doc):
 
 # --- the commands ------------------------------------------------------------------------
 
+def record(call):
+    """Run ``call``, a line of Python on this module's functions, as FreeCAD's own commands do:
+    through ``Gui.doCommand``, so that the Python console shows it and macro recording keeps
+    it, the call a script would make."""
+    Gui.addModule("waferscan.gui.commands")
+    Gui.doCommand(f"waferscan.gui.commands.{call}")
+
+
+def _doc_ref(doc):
+    return f"App.getDocument({doc.Name!r})"
+
+
+def _objects_ref(objects):
+    return "[" + ", ".join(f"{_doc_ref(o.Document)}.getObject({o.Name!r})"
+                           for o in objects) + "]"
+
+
 class _Command:
     menu, tip, icon = "", "", "WaferScan.svg"
     shows_only = False  # True: usable even while another tool's task panel is open
@@ -488,7 +505,7 @@ class NewPaperLayout(_Command):
 
     def run(self):
         from ..cli import paper_scenario
-        open_scenario(paper_scenario())
+        record(f"open_scenario({str(paper_scenario())!r})")
 
     def IsActive(self):
         return True
@@ -504,7 +521,7 @@ class OpenScenario(_Command):
                                                     str(paper_scenario().parent),
                                                     "Scenario (*.toml)")
         if path:
-            open_scenario(path)
+            record(f"open_scenario({path!r})")
 
     def IsActive(self):
         return True
@@ -516,7 +533,11 @@ class Tag(_Command):
         self.icon = f"WaferScan_Tag{role.capitalize()}.svg"
 
     def run(self):
-        tag_selection(self.role)
+        selection = Gui.Selection.getSelection()
+        if not selection:
+            tag_selection(self.role, selection)  # says what to select
+            return
+        record(f"tag_selection({self.role!r}, {_objects_ref(selection)})")
 
     def IsActive(self):
         return bool(Gui.Selection.getSelection())
@@ -542,7 +563,7 @@ class RunScan(_Command):
            "then show the results and the slot code")
 
     def run(self):
-        run_scan(App.ActiveDocument)
+        record(f"run_scan({_doc_ref(App.ActiveDocument)})")
 
 
 class McsLinkCommand(_Command):
@@ -551,7 +572,7 @@ class McsLinkCommand(_Command):
            "and results.txt in a folder")
 
     def run(self):
-        open_mcs_panel(App.ActiveDocument)
+        record(f"open_mcs_panel({_doc_ref(App.ActiveDocument)})")
 
 
 class ResultsTableCommand(_Command):
@@ -560,7 +581,7 @@ class ResultsTableCommand(_Command):
     tip = "The scan's results, slot by slot (the paper's Table 1); selecting a row selects the wafer"
 
     def run(self):
-        show_results_dialogs(App.ActiveDocument, ("table",))
+        record(f"show_results_dialogs({_doc_ref(App.ActiveDocument)}, ('table',))")
 
 
 class SlotCodeCommand(_Command):
@@ -569,7 +590,7 @@ class SlotCodeCommand(_Command):
     tip = "The slot code, its per-slot strip, a side view of the runs and the E87 map"
 
     def run(self):
-        show_results_dialogs(App.ActiveDocument, ("code",))
+        record(f"show_results_dialogs({_doc_ref(App.ActiveDocument)}, ('code',))")
 
 
 class CrossCheckCommand(_Command):
@@ -578,7 +599,7 @@ class CrossCheckCommand(_Command):
     tip = "Confirm every IN and OUT of the scan with FreeCAD's B-rep geometry (OpenCASCADE)"
 
     def run(self):
-        cross_check(App.ActiveDocument)
+        record(f"cross_check({_doc_ref(App.ActiveDocument)})")
 
 
 class PreferencesCommand(_Command):
