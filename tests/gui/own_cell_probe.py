@@ -225,6 +225,8 @@ def merged_done():
                               commands.last_result(doc).layout.scan.final_z]
     Gui.runCommand("WaferScan_Results")  # opens while the panel is open
     result["results_opened_with_panel"] = [d.windowTitle() for d in commands._session["dialogs"]]
+    Gui.ActiveDocument.ActiveView.viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
     window_shot("gui-own-cell.png", dock_width=264)
     for dialog in commands._session["dialogs"]:
         dialog.close()
