@@ -5,7 +5,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, result, start, window_shot  # noqa: E402
+from probe_steps import finish, result, start, window_shot  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -36,10 +36,14 @@ def begin():
     doc = App.openDocument(os.environ["WAFERSCAN_GUI_LAYOUT"])  # before the workbench is used
     Gui.SendMsgToActiveView("ViewFit")
     result["headless_built"] = views(doc)
+    result["headless_shown"] = {o.Label: [o.Visibility, o.ViewObject.Visibility]
+                                for o in doc.Objects if o.TypeId in ("App::Part", "Part::Cylinder")
+                                and o.Label in ("LP1 assembly", "Robot", "LP1_W01", "LP1_W02")}
     Gui.activateWorkbench("WaferScanWorkbench")
     Gui.runCommand("WaferScan_NewPaperLayout")
     result["gui_built"] = views(App.ActiveDocument)
-    Gui.getMainWindow().findChildren(QtGui.QDockWidget)  # the tree, as a user sees it
+    for tree in Gui.getMainWindow().findChildren(QtGui.QTreeWidget):  # the tree, opened
+        tree.expandAll()
     window_shot("gui-role-icons.png")
     finish()
 

@@ -18,6 +18,7 @@ ICONS = {"Carrier": "WaferScan_Carrier.svg", "Scanner": "WaferScan_Scanner.svg",
 def icons(run_gui_probe, tmp_path_factory):
     path = tmp_path_factory.mktemp("headless") / "paper-headless.FCStd"
     with opened_layout(paper_scenario()) as doc:  # plain Python: no GUI, no view providers
+        doc.getObjectsByLabel("LP1_W02")[0].Visibility = False  # hidden in the file: stays so
         doc.saveAs(str(path))
     return run_gui_probe(PROBE, WAFERSCAN_GUI_LAYOUT=str(path),
                          WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS))
@@ -34,3 +35,9 @@ def test_each_role_shows_its_own_icon(icons, built):
     # The carrier and the scanner are drawn (a document built headless used to open blank).
     assert found["Carrier"][3:] == [True, True, True], found
     assert found["Scanner"][3:] == [True, True, True], found
+
+
+def test_a_document_built_headless_opens_with_everything_shown(icons):
+    shown = icons["headless_shown"]
+    assert shown == {"LP1 assembly": [True, True], "Robot": [True, True],
+                     "LP1_W01": [True, True], "LP1_W02": [False, False]}, shown

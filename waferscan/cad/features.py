@@ -18,17 +18,17 @@ from . import roles
 # The GUI's view providers (an icon per role), given by the GUI layer when it is up, as Draft
 # attaches its own only then; this layer does not import the GUI. None: FreeCAD's default.
 view_provider = None
+# FreeCAD quirk: a document saved without a GUI opens in the GUI with every object hidden. The
+# GUI layer gives here how to show what the file says is visible.
+show_saved_visibility = None
 
 
-def _give_view_provider(obj):
+def _give_view_provider(obj, restored=False):
     if not App.GuiUp or obj.ViewObject is None or obj.ViewObject.Proxy:
         return
-    never_viewed = obj.ViewObject.Proxy is None  # made now, or saved without a GUI
+    if restored and obj.ViewObject.Proxy is None and show_saved_visibility is not None:
+        show_saved_visibility(obj.Document)  # saved without a GUI: no view data in the file
     if view_provider is not None and view_provider(obj):
-        # FreeCAD quirk: a document saved headless opens with its Python features hidden (no
-        # view provider to draw them): the solids are shown, as when they were built.
-        if never_viewed and obj.isDerivedFrom("Part::Feature"):
-            obj.ViewObject.Visibility = True
         return
     if obj.ViewObject.Proxy is None:
         # FreeCAD quirk: a FeaturePython made in a GUI session is drawn only once its view
@@ -55,7 +55,7 @@ class _Proxy:
     def onDocumentRestored(self, obj):
         obj.Proxy = self
         # A document built headless has no view providers saved: the GUI gives them now.
-        _give_view_provider(obj)
+        _give_view_provider(obj, restored=True)
 
 
 def carrier_solids(slot_count, pitch, wafer_diameter, support_span):

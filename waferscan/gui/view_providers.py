@@ -8,6 +8,9 @@ with a role (a Part::Box, an imported STEP solid) keeps the icon of its own type
 
 from __future__ import annotations
 
+import zipfile
+from xml.etree import ElementTree
+
 import FreeCAD as App
 
 from ..addon import icon_path
@@ -56,8 +59,33 @@ def attach(obj):
     return True
 
 
+_shown_as_saved = set()  # (document name, file) already done
+
+
+def show_saved_visibility(doc):
+    """Show and hide the objects of ``doc`` as its file says. FreeCAD 0.20 opens a document
+    saved without a GUI (by the command line, a script) with every object hidden, its view
+    data missing; the objects' own Visibility is in Document.xml. Done once per document."""
+    key = (doc.Name, doc.FileName)
+    if key in _shown_as_saved or not doc.FileName:
+        return
+    _shown_as_saved.add(key)
+    try:
+        with zipfile.ZipFile(doc.FileName) as archive:
+            root = ElementTree.fromstring(archive.read("Document.xml"))
+    except (OSError, KeyError, zipfile.BadZipFile, ElementTree.ParseError):
+        return  # nothing to go by: left as FreeCAD opened it
+    for data in root.iter("Object"):
+        value = data.find("./Properties/Property[@name='Visibility']/Bool")
+        obj = doc.getObject(data.get("name", "")) if value is not None else None
+        if obj is not None and getattr(obj, "ViewObject", None) is not None:
+            obj.ViewObject.Visibility = value.get("value") == "true"
+
+
 def install():
-    """Let the CAD layer attach these view providers (it does not import the GUI)."""
+    """Let the CAD layer attach these view providers and show a document saved without a GUI
+    as it was saved (it does not import the GUI)."""
     from ..cad import features
 
     features.view_provider = attach
+    features.show_saved_visibility = show_saved_visibility
