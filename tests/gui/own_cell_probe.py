@@ -305,7 +305,10 @@ def after_stop():
 def close_mcs():
     from waferscan.gui import commands
     Gui.Control.closeDialog()
-    # The document closed while its scan runs: the panel ends and closes, without errors.
+    # The document closed while its scan runs: the panel ends and closes, without errors; its
+    # results table too.
+    Gui.runCommand("WaferScan_Results")
+    state["table"] = commands._session["dialogs"][0]
     Gui.runCommand("WaferScan_RunScan")
     panel = commands._session["panel"]
     panel.speed.setValue(600.0)  # seconds: slow
@@ -320,10 +323,12 @@ def close_during_scan():
 
 
 def after_close(panel):
+    from waferscan.gui.qt import alive
     result["after_close"] = {"dialog_open": bool(Gui.Control.activeDialog()),
                              "panel_open": panel.is_open(),
                              "animation_ended": panel.animation.ended,
-                             "running": panel.animation.running}
+                             "running": panel.animation.running,
+                             "results_table_open": alive(state["table"])}
     finish()
 
 

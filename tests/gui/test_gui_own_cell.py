@@ -111,7 +111,8 @@ def test_the_results_table_opens_while_the_panel_is_open_and_after_stop(cell):
 def test_closing_the_document_during_a_scan_ends_and_closes_the_panel(cell):
     gui, _ = cell
     assert gui["after_close"] == {"dialog_open": False, "panel_open": False,
-                                  "animation_ended": True, "running": False}
+                                  "animation_ended": True, "running": False,
+                                  "results_table_open": False}
 
 
 def test_screenshot_saved():

@@ -265,6 +265,9 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
 
     doc = doc or App.ActiveDocument
     result = result or results_for(doc)
+    if "closing" not in _session:
+        _session["closing"] = _ClosedDocuments()
+        App.addDocumentObserver(_session["closing"])
     views = _session.setdefault("views", {}).setdefault(doc.Name, {})
     dialogs = []
     for kind in which:
@@ -285,6 +288,16 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
         dialogs.append(dialog)
     _session["dialogs"] = dialogs
     return dialogs
+
+
+class _ClosedDocuments:
+    """A document closed: its results dialogs close too (they would point at nothing)."""
+
+    def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
+        for dialog in _session.get("views", {}).pop(doc.Name, {}).values():
+            if alive(dialog):
+                dialog.close()
+        _session["results"].pop(doc.Name, None)
 
 
 def fit_screen(dialog, margin=(40, 80)):
