@@ -54,13 +54,13 @@ def messages():
     return texts
 
 
-def record_enabled(key, then):
+def record_enabled(key, then, extra=()):
     """Record which commands a user can click now (their actions' enabled state, which FreeCAD
     updates on a timer, so after a pause), then go on with ``then``."""
 
     def read():
         found = {}
-        for name in COMMANDS:
+        for name in COMMANDS + tuple(extra):
             actions = Gui.Command.get(name).getAction()
             found[name] = bool(actions) and all(a.isEnabled() for a in actions)
         result[key] = found
@@ -299,11 +299,15 @@ def after_stop():
     # The MCS link panel, open for hours: the commands stay enabled too.
     Gui.Control.closeDialog()
     Gui.runCommand("WaferScan_McsLink")
-    record_enabled("enabled_mcs", close_mcs)
+    # Edit → Delete too, with something selected to delete.
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection({o.Label: o for o in state["doc"].Objects}["Base"])
+    record_enabled("enabled_mcs", close_mcs, extra=("Std_Delete",))
 
 
 def close_mcs():
     from waferscan.gui import commands
+    Gui.Selection.clearSelection()
     Gui.Control.closeDialog()
     # The document closed while its scan runs: the panel ends and closes, without errors; its
     # results table too.
