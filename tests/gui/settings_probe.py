@@ -95,8 +95,11 @@ def choose_folder(folder, log):
         if folder is None:
             dialog.reject()
         else:
+            # The whole path typed into the name field, as a user may: what the dialog
+            # returns does not depend on its folder view having loaded.
             dialog.setDirectory(folder)
-            dialog.selectFile(folder)
+            for field in dialog.findChildren(QtGui.QLineEdit):
+                field.setText(folder)
             dialog.accept()
 
     QtCore.QTimer.singleShot(50, answer)
