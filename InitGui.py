@@ -30,3 +30,6 @@ FreeCADGui.addWorkbench(WaferScanWorkbench())
 FreeCADGui.addIconPath(waferscan.addon.icon_path(""))
 import waferscan.gui.preferences  # noqa: E402
 waferscan.gui.preferences.register()
+# WaferScan's objects get their roles' icons, also in documents built headless and opened here.
+import waferscan.gui.view_providers  # noqa: E402
+waferscan.gui.view_providers.install()

@@ -7,7 +7,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, later, result, start, wait_for, window_shot  # noqa: E402,E501
+from probe_steps import (artifact, finish, later, result, start, wait_for,  # noqa: E402
+                         window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402

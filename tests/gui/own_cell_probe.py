@@ -54,13 +54,13 @@ def messages():
     return texts
 
 
-def record_enabled(key, then):
+def record_enabled(key, then, extra=()):
     """Record which commands a user can click now (their actions' enabled state, which FreeCAD
     updates on a timer, so after a pause), then go on with ``then``."""
 
     def read():
         found = {}
-        for name in COMMANDS:
+        for name in COMMANDS + tuple(extra):
             actions = Gui.Command.get(name).getAction()
             found[name] = bool(actions) and all(a.isEnabled() for a in actions)
         result[key] = found
@@ -134,6 +134,19 @@ def set_scanner(obj):
     inverse = global_frame(obj).inverse()
     obj.Emitter = inverse.multVec(App.Vector(70, 66.6, 152))
     obj.Receiver = inverse.multVec(App.Vector(250, 66.6, 152))
+
+
+def sensor_view(doc):
+    return {o.Label: o for o in doc.Objects}["Sensor"].ViewObject
+
+
+def look(doc, panel):
+    """The walls' and wafers' transparency, and whether the beam is drawn over the sensor."""
+    by_label = {o.Label: o for o in doc.Objects}
+    return [{label: by_label[label].ViewObject.Transparency
+             for label in ("Base", "Left", "Right", "W1", "W3")},
+            panel.animation.overlay is not None and
+            panel.animation.overlay.node in list(sensor_view(doc).RootNode.getChildren())]
 
 
 def begin():
@@ -212,6 +225,8 @@ def merged_done():
                               commands.last_result(doc).layout.scan.final_z]
     Gui.runCommand("WaferScan_Results")  # opens while the panel is open
     result["results_opened_with_panel"] = [d.windowTitle() for d in commands._session["dialogs"]]
+    Gui.ActiveDocument.ActiveView.viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
     window_shot("gui-own-cell.png", dock_width=264)
     for dialog in commands._session["dialogs"]:
         dialog.close()
@@ -238,10 +253,13 @@ def link_group():
     result["link_scene"] = {"wafers": [i.path for i in scene.wafers],
                             "carriers": [i.path for i in scene.carriers],
                             "scanners": [i.path for i in scene.scanners]}
+    colour = tuple(sensor_view(doc).ShapeColor)
     Gui.runCommand("WaferScan_RunScan")
     result["link_errors"] = messages()
     from waferscan.gui import commands
     panel = commands._session["panel"]
+    state["sensor_colour"] = colour
+    result["link_running_look"] = look(doc, panel) + [tuple(sensor_view(doc).ShapeColor) == colour]
     state["doc"], state["panel"] = doc, panel
     panel.speed.setValue(panel.speed.minimum())  # seconds: fast
     wait_for("the link cell's scan", lambda: panel.animation.ended, link_done)
@@ -251,6 +269,14 @@ def link_done():
     from waferscan.gui import commands
     doc = state["doc"]
     result["link_code"] = commands.last_result(doc).code
+    # The Python console shows the calls the commands made, as a script would make them.
+    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
+                if w.objectName() == "Python console"]
+    result["console_calls"] = [line.strip().lstrip(">").strip()
+                               for line in consoles[0].toPlainText().splitlines()
+                               if "waferscan.gui.commands." in line] if consoles else None
+    result["link_after_look"] = look(doc, commands._session["panel"]) + [
+        tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))
     Gui.Control.closeDialog()
     for dialog in commands._session["dialogs"]:
@@ -273,13 +299,20 @@ def after_stop():
     # The MCS link panel, open for hours: the commands stay enabled too.
     Gui.Control.closeDialog()
     Gui.runCommand("WaferScan_McsLink")
-    record_enabled("enabled_mcs", close_mcs)
+    # Edit → Delete too, with something selected to delete.
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection({o.Label: o for o in state["doc"].Objects}["Base"])
+    record_enabled("enabled_mcs", close_mcs, extra=("Std_Delete",))
 
 
 def close_mcs():
     from waferscan.gui import commands
+    Gui.Selection.clearSelection()
     Gui.Control.closeDialog()
-    # The document closed while its scan runs: the panel ends and closes, without errors.
+    # The document closed while its scan runs: the panel ends and closes, without errors; its
+    # results table too.
+    Gui.runCommand("WaferScan_Results")
+    state["table"] = commands._session["dialogs"][0]
     Gui.runCommand("WaferScan_RunScan")
     panel = commands._session["panel"]
     panel.speed.setValue(600.0)  # seconds: slow
@@ -294,10 +327,12 @@ def close_during_scan():
 
 
 def after_close(panel):
+    from waferscan.gui.qt import alive
     result["after_close"] = {"dialog_open": bool(Gui.Control.activeDialog()),
                              "panel_open": panel.is_open(),
                              "animation_ended": panel.animation.ended,
-                             "running": panel.animation.running}
+                             "running": panel.animation.running,
+                             "results_table_open": alive(state["table"])}
     finish()
 
 

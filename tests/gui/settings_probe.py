@@ -23,7 +23,8 @@ FIELDS = ("ThicknessTolerance", "PositionTolerance", "ProtrusionLimit")
 def stored():
     group = App.ParamGet(PARAMETERS)
     return {name: group.GetFloat(name) for name in EXACT} | {
-        "McsFolder": group.GetString("McsFolder"), "PlaybackSeconds": group.GetFloat("PlaybackSeconds")}
+        "McsFolder": group.GetString("McsFolder"),
+        "PlaybackSeconds": group.GetFloat("PlaybackSeconds")}
 
 
 def use_schema(number):
@@ -53,7 +54,8 @@ def open_preferences(key, edit=None, then=None):
             fields[name].setText(text)
         os.makedirs(os.path.dirname(artifact("x")), exist_ok=True)
         dialog.grab().save(artifact(f"gui-preferences-{key}.png"))
-        ok = [b for b in dialog.findChildren(QtGui.QPushButton) if b.text().replace("&", "") == "OK"]
+        ok = [b for b in dialog.findChildren(QtGui.QPushButton)
+              if b.text().replace("&", "") == "OK"]
         ok[0].click()
 
     QtCore.QTimer.singleShot(100, on_dialog)
@@ -93,8 +95,11 @@ def choose_folder(folder, log):
         if folder is None:
             dialog.reject()
         else:
+            # The whole path typed into the name field, as a user may: what the dialog
+            # returns does not depend on its folder view having loaded.
             dialog.setDirectory(folder)
-            dialog.selectFile(folder)
+            for field in dialog.findChildren(QtGui.QLineEdit):
+                field.setText(folder)
             dialog.accept()
 
     QtCore.QTimer.singleShot(50, answer)

@@ -3,6 +3,7 @@ FreeCAD's default import settings, tagged and scanned with the workbench's comma
 commands stay usable while a task panel is open; closing the document during a scan ends the
 panel cleanly."""
 
+import re
 from pathlib import Path
 
 import pytest
@@ -54,7 +55,7 @@ def test_re_tagging_a_wafer_asks_first(cell):
 
 def test_tagging_a_carrier_says_what_to_set_in_a_dialog(cell):
     gui, _ = cell
-    assert any("SlotCount" in text for text in gui["tag_messages"])
+    assert any("SlotCount" in text for text in gui["tag_messages"]), gui["tag_messages"]
     assert any("Emitter" in text for text in gui["tag_messages"])
 
 
@@ -67,6 +68,16 @@ def test_two_carriers_ask_which_to_scan_and_the_range_is_the_slots(cell):
     assert "5 mm" in gui["merged_about"] and "55 mm" in gui["merged_about"]
     with opened_layout(folder / "merged-cell.FCStd") as doc:
         assert scan_document(doc, "analytic").code == CODE
+
+
+def test_a_container_carrier_turns_see_through_and_a_solid_scanner_keeps_its_colour(cell):
+    gui, _ = cell
+    walls, beam_drawn, colour_kept = gui["link_running_look"]
+    assert walls == {"Base": 70, "Left": 70, "Right": 70, "W1": 0, "W3": 0}
+    assert beam_drawn is True and colour_kept is True
+    walls, beam_drawn, colour_kept = gui["link_after_look"]
+    assert walls == {"Base": 0, "Left": 0, "Right": 0, "W1": 0, "W3": 0}
+    assert beam_drawn is False and colour_kept is True
 
 
 def test_a_link_group_import_is_scanned_as_the_tree_shows_it(cell):
@@ -87,7 +98,8 @@ def test_a_link_group_import_is_scanned_as_the_tree_shows_it(cell):
 def test_commands_stay_enabled_while_a_panel_is_open(cell, moment):
     gui, _ = cell
     assert gui[moment] == {name: True for name in gui[moment]}
-    assert len(gui[moment]) == 8
+    # Ours, File → New, and with the MCS panel (and a selection) Edit → Delete.
+    assert len(gui[moment]) == (9 if moment == "enabled_mcs" else 8)
 
 
 def test_the_results_table_opens_while_the_panel_is_open_and_after_stop(cell):
@@ -100,8 +112,21 @@ def test_the_results_table_opens_while_the_panel_is_open_and_after_stop(cell):
 def test_closing_the_document_during_a_scan_ends_and_closes_the_panel(cell):
     gui, _ = cell
     assert gui["after_close"] == {"dialog_open": False, "panel_open": False,
-                                  "animation_ended": True, "running": False}
+                                  "animation_ended": True, "running": False,
+                                  "results_table_open": False}
 
 
 def test_screenshot_saved():
     assert (ARTIFACTS / "gui-own-cell.png").stat().st_size > 1000
+
+
+def test_the_commands_are_recorded_as_python_calls(cell):
+    gui, _ = cell
+    calls = gui["console_calls"]
+    wafers = re.compile(r"waferscan\.gui\.commands\.tag_selection\('wafer', \["
+                        r"App\.getDocument\('LinkCell'\)\.getObject\('Solid\d+'\), "
+                        r"App\.getDocument\('LinkCell'\)\.getObject\('Solid\d+'\)\]\)")
+    assert any(wafers.fullmatch(c) for c in calls), calls
+    assert "waferscan.gui.commands.run_scan(App.getDocument('LinkCell'))" in calls
+    assert "waferscan.gui.commands.show_results_dialogs(App.getDocument('MergedCell'), " \
+        "('table',))" in calls

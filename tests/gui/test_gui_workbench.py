@@ -44,10 +44,11 @@ def test_the_toolbar_has_every_command_with_its_own_icon_and_a_tooltip(gui_resul
         assert tip and has_icon, text
         assert drawn > 0.15, f"{text}: its icon is nearly empty at 24 px"
     pixmaps = gui_result["pixmaps"]
-    # One SVG per command (the three tag commands share the tag icon), all in resources/icons.
-    assert len(set(pixmaps.values())) == len(COMMANDS)
+    # One SVG per command, the three tag commands and their drop-down each their own, all in
+    # resources/icons.
+    assert len(set(pixmaps.values())) == len(COMMANDS) + 3
     for name, path in pixmaps.items():
-        assert path.endswith(f"{name if 'Tag' not in name else 'WaferScan_TagSelection'}.svg")
+        assert path.endswith(f"{name if name != 'WaferScan_Tag' else 'WaferScan_TagSelection'}.svg")
         assert Path(path).is_file(), path
 
 

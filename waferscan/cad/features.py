@@ -39,15 +39,33 @@ def add_named(doc, kind, label):
     return obj
 
 
+# The GUI's view providers (an icon per role), given by the GUI layer when it is up, as Draft
+# attaches its own only then; this layer does not import the GUI. None: FreeCAD's default.
+view_provider = None
+# FreeCAD quirk: a document saved without a GUI opens in the GUI with every object hidden. The
+# GUI layer gives here how to show what the file says is visible.
+show_saved_visibility = None
+
+
+def _give_view_provider(obj, restored=False):
+    if not App.GuiUp or obj.ViewObject is None or obj.ViewObject.Proxy:
+        return
+    if restored and obj.ViewObject.Proxy is None and show_saved_visibility is not None:
+        show_saved_visibility(obj.Document)  # saved without a GUI: no view data in the file
+    if view_provider is not None and view_provider(obj):
+        return
+    if obj.ViewObject.Proxy is None:
+        # FreeCAD quirk: a FeaturePython made in a GUI session is drawn only once its view
+        # object has a proxy; 0 asks for the default view provider.
+        obj.ViewObject.Proxy = 0
+
+
 class _Proxy:
     """Base of WaferScan's feature proxies: nothing but a type to save."""
 
     def __init__(self, obj):
         obj.Proxy = self
-        if App.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-            # FreeCAD quirk: a FeaturePython made in a GUI session is drawn only once its view
-            # object has a proxy; 0 asks for the default view provider.
-            obj.ViewObject.Proxy = 0
+        _give_view_provider(obj)
 
     def dumps(self):
         return {"type": type(self).__name__}
@@ -60,6 +78,8 @@ class _Proxy:
 
     def onDocumentRestored(self, obj):
         obj.Proxy = self
+        # A document built headless has no view providers saved: the GUI gives them now.
+        _give_view_provider(obj, restored=True)
 
 
 def carrier_solids(slot_count, pitch, wafer_diameter, support_span):

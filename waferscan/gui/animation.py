@@ -80,9 +80,15 @@ class ScanAnimation(QtCore.QObject):
         # While it runs, the carriers are see-through and the beam drawn thick: the beam lies
         # inside the carrier, behind its walls.
         self._restore_view = []
-        changes = [(i.obj, "Transparency", 70) for i in scene.carriers] + \
-            [(self.beam, "LineWidth", 4.0), (self.beam, "ShapeColor", None),
-             (self.beam, "LineColor", None)]
+        changes = [(obj, "Transparency", 70) for obj in see_through_objects(scene)]
+        # WaferScan's own scanner is the beam rod itself; a user's scanner is a solid (a fork)
+        # that keeps its look, and the beam is drawn over it in the 3D view.
+        self.overlay = None
+        if is_own_beam(self.beam):
+            changes += [(self.beam, "LineWidth", 4.0), (self.beam, "ShapeColor", None),
+                        (self.beam, "LineColor", None)]
+        elif self.beam.ViewObject is not None:
+            self.overlay = BeamOverlay(self.beam)
         for obj, prop, value in changes:
             view = obj.ViewObject
             if view is not None and prop in view.PropertiesList:
@@ -145,6 +151,8 @@ class ScanAnimation(QtCore.QObject):
         self.completed, self.fault = completed, fault
         # Each put back on its own: one that fails (its object deleted) leaves the others.
         undo = [lambda: self._light(()), self.mover.restore]
+        if self.overlay is not None:
+            undo.append(self.overlay.remove)
         undo += [lambda v=view, p=prop, x=value: setattr(v, p, x)
                  for view, prop, value in self._restore_view]
         for step in undo:
@@ -163,7 +171,9 @@ class ScanAnimation(QtCore.QObject):
         if colour == getattr(self, "_beam_colour", None):
             return
         self._beam_colour = colour
-        if self.beam.ViewObject is not None:
+        if self.overlay is not None:
+            self.overlay.set_colour(colour)
+        elif self.beam.ViewObject is not None:
             self.beam.ViewObject.ShapeColor = colour
             self.beam.ViewObject.LineColor = colour
 
@@ -206,3 +216,69 @@ class ScanAnimation(QtCore.QObject):
             self._end(completed=True)
             return
         self.k = min(self._next_frame(), last)  # the last position is always shown
+
+
+def is_own_beam(obj):
+    """Whether the scanner object is WaferScan's own beam (drawn as the beam itself), not a
+    user's solid."""
+    from ..cad.features import ScannerBeam
+
+    return isinstance(getattr(obj.getLinkedObject(True), "Proxy", None), ScannerBeam)
+
+
+def see_through_objects(scene):
+    """What turns see-through while the scan runs: each carrier, or, for a carrier that is a
+    container (a user's App::Part or an imported link group), the shapes inside it; wafers and
+    the scanner inside it stay as they are."""
+    from ..cad import roles
+
+    found, seen = [], set()
+    stack = [instance.obj for instance in scene.carriers]
+    while stack:
+        obj = stack.pop()
+        if obj.Name in seen:
+            continue
+        seen.add(obj.Name)
+        view = obj.ViewObject
+        if view is not None and "Transparency" in view.PropertiesList:
+            found.append(obj)
+            continue
+        for sub in obj.getSubObjects():
+            child = obj.getSubObject(sub, retType=1)
+            if child is not None and roles.role_of(child) not in (roles.WAFER, roles.SCANNER):
+                stack.append(child)
+    return found
+
+
+class BeamOverlay:
+    """The beam from a user's scanner's emitter to its receiver, drawn into the scanner's own
+    scene-graph node, so that it moves with the scanner; not a document object, so nothing
+    enters the document or its undo history."""
+
+    def __init__(self, obj):
+        from pivy import coin
+
+        from ..cad import roles
+
+        holder = roles.role_holder(obj)
+        self.root = obj.ViewObject.RootNode
+        self.node = coin.SoSeparator()
+        light = coin.SoLightModel()
+        light.model = coin.SoLightModel.BASE_COLOR
+        self.colour = coin.SoBaseColor()
+        style = coin.SoDrawStyle()
+        style.lineWidth = 4
+        points = coin.SoCoordinate3()
+        points.point.setValues(0, 2, [tuple(holder.Emitter), tuple(holder.Receiver)])
+        line = coin.SoLineSet()
+        line.numVertices.setValue(2)
+        for node in (light, self.colour, style, points, line):
+            self.node.addChild(node)
+        self.root.addChild(self.node)
+        self.set_colour(BEAM_CLEAR)
+
+    def set_colour(self, rgb):
+        self.colour.rgb.setValue(*rgb)
+
+    def remove(self):
+        self.root.removeChild(self.node)

@@ -267,6 +267,9 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
 
     doc = doc or App.ActiveDocument
     result = result or results_for(doc)
+    if "closing" not in _session:
+        _session["closing"] = _ClosedDocuments()
+        App.addDocumentObserver(_session["closing"])
     views = _session.setdefault("views", {}).setdefault(doc.Name, {})
     dialogs = []
     for kind in which:
@@ -287,6 +290,16 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
         dialogs.append(dialog)
     _session["dialogs"] = dialogs
     return dialogs
+
+
+class _ClosedDocuments:
+    """A document closed: its results dialogs close too (they would point at nothing)."""
+
+    def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
+        for dialog in _session.get("views", {}).pop(doc.Name, {}).values():
+            if alive(dialog):
+                dialog.close()
+        _session["results"].pop(doc.Name, None)
 
 
 def fit_screen(dialog, margin=(40, 80)):
@@ -342,6 +355,10 @@ def tag_selection(role, selection=None):
         for obj in objects:
             _tag(role, obj)
     doc.recompute()
+    from .view_providers import ViewProviderRole, attach
+    for obj in objects:  # a Python feature shows its new role's icon
+        if attach(obj) or isinstance(getattr(obj.ViewObject, "Proxy", None), ViewProviderRole):
+            obj.ViewObject.signalChangeIcon()
     names = ", ".join(o.Label for o in objects)
     message = f"Tagged {names} as {role}: {TAG_HINTS[role]}."
     if role == "wafer":  # nothing to set: the status bar is enough
@@ -460,6 +477,23 @@ def cross_check(doc):
 
 # --- the commands ------------------------------------------------------------------------
 
+def record(call):
+    """Run ``call``, a line of Python on this module's functions, as FreeCAD's own commands do:
+    through ``Gui.doCommand``, so that the Python console shows it and macro recording keeps
+    it, the call a script would make."""
+    Gui.addModule("waferscan.gui.commands")
+    Gui.doCommand(f"waferscan.gui.commands.{call}")
+
+
+def _doc_ref(doc):
+    return f"App.getDocument({doc.Name!r})"
+
+
+def _objects_ref(objects):
+    return "[" + ", ".join(f"{_doc_ref(o.Document)}.getObject({o.Name!r})"
+                           for o in objects) + "]"
+
+
 class _Command:
     menu, tip, icon = "", "", "WaferScan.svg"
     shows_only = False  # True: usable even while another tool's task panel is open
@@ -486,7 +520,7 @@ class NewPaperLayout(_Command):
 
     def run(self):
         from ..cli import paper_scenario
-        open_scenario(paper_scenario())
+        record(f"open_scenario({str(paper_scenario())!r})")
 
     def IsActive(self):
         return True
@@ -502,20 +536,23 @@ class OpenScenario(_Command):
                                                     str(paper_scenario().parent),
                                                     "Scenario (*.toml)")
         if path:
-            open_scenario(path)
+            record(f"open_scenario({path!r})")
 
     def IsActive(self):
         return True
 
 
 class Tag(_Command):
-    icon = "WaferScan_TagSelection.svg"
-
     def __init__(self, role, tip):
         self.role, self.menu, self.tip = role, f"Tag as {role}", tip
+        self.icon = f"WaferScan_Tag{role.capitalize()}.svg"
 
     def run(self):
-        tag_selection(self.role)
+        selection = Gui.Selection.getSelection()
+        if not selection:
+            tag_selection(self.role, selection)  # says what to select
+            return
+        record(f"tag_selection({self.role!r}, {_objects_ref(selection)})")
 
     def IsActive(self):
         return bool(Gui.Selection.getSelection())
@@ -541,7 +578,7 @@ class RunScan(_Command):
            "then show the results and the slot code")
 
     def run(self):
-        run_scan(App.ActiveDocument)
+        record(f"run_scan({_doc_ref(App.ActiveDocument)})")
 
 
 class McsLinkCommand(_Command):
@@ -550,7 +587,7 @@ class McsLinkCommand(_Command):
            "and results.txt in a folder")
 
     def run(self):
-        open_mcs_panel(App.ActiveDocument)
+        record(f"open_mcs_panel({_doc_ref(App.ActiveDocument)})")
 
 
 class ResultsTableCommand(_Command):
@@ -559,7 +596,7 @@ class ResultsTableCommand(_Command):
     tip = "The scan's results, slot by slot (the paper's Table 1); selecting a row selects the wafer"
 
     def run(self):
-        show_results_dialogs(App.ActiveDocument, ("table",))
+        record(f"show_results_dialogs({_doc_ref(App.ActiveDocument)}, ('table',))")
 
 
 class SlotCodeCommand(_Command):
@@ -568,7 +605,7 @@ class SlotCodeCommand(_Command):
     tip = "The slot code, its per-slot strip, a side view of the runs and the E87 map"
 
     def run(self):
-        show_results_dialogs(App.ActiveDocument, ("code",))
+        record(f"show_results_dialogs({_doc_ref(App.ActiveDocument)}, ('code',))")
 
 
 class CrossCheckCommand(_Command):
@@ -577,7 +614,7 @@ class CrossCheckCommand(_Command):
     tip = "Confirm every IN and OUT of the scan with FreeCAD's B-rep geometry (OpenCASCADE)"
 
     def run(self):
-        cross_check(App.ActiveDocument)
+        record(f"cross_check({_doc_ref(App.ActiveDocument)})")
 
 
 class PreferencesCommand(_Command):

@@ -1,0 +1,61 @@
+# Run by FreeCAD's GUI (tests/gui/test_gui_guidance.py): Run scan on documents that are not ready,
+# as a new user's are: nothing tagged; a carrier and a sensor but no wafer. Each says what to do
+# next in a message box (a fresh FreeCAD hides the report view).
+import os
+import sys
+
+sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
+from probe_steps import finish, result, start, wait_for  # noqa: E402
+
+import FreeCAD as App  # noqa: E402
+import FreeCADGui as Gui  # noqa: E402
+
+
+def messages():
+    from waferscan.gui import commands
+    from waferscan.gui.qt import alive
+    shown = [m for m in commands._session["messages"] if alive(m) and m.isVisible()]
+    texts = [box.text() for box in shown]
+    for box in shown:
+        box.close()
+    return texts
+
+
+def begin():
+    Gui.activateWorkbench("WaferScanWorkbench")
+    doc = App.newDocument("Untagged")
+    box = doc.addObject("Part::Box", "Foup")
+    box.Length, box.Width, box.Height = 340, 360, 70
+    sensor = doc.addObject("Part::Box", "Sensor")
+    sensor.Length, sensor.Width, sensor.Height = 160, 4, 4
+    doc.recompute()
+    Gui.runCommand("WaferScan_RunScan")
+    result["untagged"] = messages()
+    result["untagged_panel"] = bool(Gui.Control.activeDialog())
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(box)
+    Gui.runCommand("WaferScan_TagCarrier")
+    messages()
+    Gui.runCommand("WaferScan_RunScan")
+    result["no_scanner"] = messages()
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(sensor)
+    Gui.runCommand("WaferScan_TagScanner")
+    messages()
+    Gui.Selection.clearSelection()
+    Gui.runCommand("WaferScan_RunScan")
+    result["no_wafers"] = messages()
+    from waferscan.gui import commands
+    panel = commands._session["panel"]
+    panel.speed.setValue(panel.speed.minimum())
+    wait_for("the scan's end", lambda: panel.animation.ended, done)
+
+
+def done():
+    from waferscan.gui import commands
+    result["no_wafers_code"] = commands.last_result(App.ActiveDocument).code
+    Gui.Control.closeDialog()
+    finish()
+
+
+start(begin)
