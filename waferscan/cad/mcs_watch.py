@@ -10,7 +10,9 @@ link that read it at every command would grow without bound.
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -143,6 +145,19 @@ class _FailingScanner:
         pass
 
 
+def _stop_on_signals(stopping):
+    """Ctrl-C and SIGTERM set ``stopping`` instead of raising KeyboardInterrupt. FreeCAD quirk: a
+    KeyboardInterrupt raised inside a document observer's callback (FreeCAD calls it from C++
+    while a scan moves objects) is swallowed by FreeCAD, so a watcher interrupted there would
+    never stop. The loop checks the flag between polls. Returns the handlers replaced."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    handled = {}
+    for number in (signal.SIGINT, signal.SIGTERM):
+        handled[number] = signal.signal(number, lambda *_: stopping.set())
+    return handled
+
+
 def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
     """``waferscan watch``: the link on ``folder`` with the layout at ``layout_path`` (a
     scenario or a .FCStd), answers logged on stdout, faults on stderr. The layout is opened
@@ -166,6 +181,8 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
         scanner.close()
         App.closeDocument(doc.Name)
         raise
+    stopping = threading.Event()
+    handled = _stop_on_signals(stopping)
     try:
         if once:
             link.poll()
@@ -173,15 +190,16 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
         out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
         checked = time.monotonic()
         faults = set()
-        while True:
+        while not stopping.is_set():
             try:
                 link.poll()
             except Exception as exc:  # a fault of ours: said once, and the watching goes on
                 if repr(exc) not in faults:
                     faults.add(repr(exc))
                     err(f"internal error, still watching\n{traceback.format_exc().rstrip()}")
-                time.sleep(max(poll, 1.0))
-            time.sleep(poll)
+                stopping.wait(max(poll, 1.0))
+            if stopping.wait(poll):
+                break
             if time.monotonic() - checked >= LAYOUT_CHECK_SECONDS:
                 checked = time.monotonic()
                 now = _file_signature(layout_path)
@@ -202,9 +220,12 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
                         scanner = _FailingScanner(exc)
                         err(f"{exc} (each scan is answered with this until it is fixed)")
                     link.scan = scanner
+        return 0
     except KeyboardInterrupt:
         return 0
     finally:
+        for number, previous in handled.items():
+            signal.signal(number, previous)
         link.close()
         scanner.close()
         if doc is not None:
