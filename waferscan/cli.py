@@ -61,6 +61,12 @@ def _check_engine(layout, engine, source, parameters=None):
         if parameters is not None and "z_step" in parameters.values:
             raise InputError(parameters.source, parameters.lines.get("z_step"), message)
         raise InputError(source, None, message)
+    from .core.sensing import ideal_sensor
+
+    if not ideal_sensor(layout) and engine != "analytic":
+        # SPEC §10: a spot's blocked fraction and latching in motion are closed forms.
+        raise InputError(source, None, f"a beam spot or latch = {layout.scan.latch} is "
+                                       f"computed by the analytic engine only (not {engine})")
 
 
 def _scan_input(path, engine, parameters=None):

@@ -8,7 +8,7 @@ from contextlib import contextmanager
 
 import FreeCAD as App
 
-from . import features, roles
+from . import features, roles, sensor_properties
 
 
 def carrier_placement(carrier):
@@ -75,7 +75,8 @@ def build_document(layout, name="WaferScanLayout", doc=None):
 
 def _build(layout, name, doc):
     doc = doc or App.newDocument(name)
-    features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
+    settings = features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
+    sensor_properties.add_sensor_properties(settings, layout)  # SPEC §10
     # The assemblies first, while the document is small: each App::Part makes an origin whose
     # six features FreeCAD names itself (X_Axis, ...), searching every object's name for a free
     # one. With the wafers already there, 400 carriers took 1.5 s of that search.

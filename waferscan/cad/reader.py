@@ -21,6 +21,7 @@ from . import roles
 from .disc import NotADisc, disc_of
 from .features import SETTINGS_PROPERTIES
 from .scene import scene_instances
+from .sensor_properties import read_sensor_settings
 
 
 def _value(quantity):
@@ -180,6 +181,7 @@ def read_layout(doc, scene=None):
     beam = Beam((emitter[0], emitter[1], scan.start_z), beam.direction, beam.length)
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen or names[0])
+    layout = read_sensor_settings(scene, layout)  # SPEC §10: spot, thresholds, latch
     _check_values(scene, scanner, carriers, beam, lift_axis, layout)
     return layout
 

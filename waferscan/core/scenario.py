@@ -19,7 +19,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from . import schema, validation
+from . import schema, sensor_settings, validation
 from .errors import InputError
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
@@ -258,6 +258,7 @@ def parse_scenario(text, source="<scenario>", folder=None):
     robot = _robot(reader, data["robot"]) if "robot" in data else None
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
+    layout = _sensor_settings(reader, layout, sensor, scan_table)
     _check_layout(reader, layout, len(data.get("wafer", [])))
     return layout
 
@@ -333,7 +334,22 @@ def _carrier(reader, data, i):
     )
 
 
-_SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"}
+_SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"} | set(sensor_settings.SPOT_KEYS)
+
+
+def _sensor_settings(reader, layout, sensor, scan_table):
+    """SPEC §10's [sensor] spot and threshold keys and [scan] latch keys, on the layout."""
+    values = {k: reader.value(sensor, "sensor", k, check)
+              for k, check in sensor_settings.SPOT_KEYS.items() if k in sensor}
+    values.update({k: reader.value(scan_table, "scan", k, check)
+                   for k, check in sensor_settings.MOTION_KEYS.items() if k in scan_table})
+    if not values:
+        return layout
+    try:
+        return sensor_settings.with_settings(layout, values)
+    except sensor_settings.SettingsError as exc:
+        table = "scan" if exc.key in sensor_settings.MOTION_KEYS else "sensor"
+        raise reader.error(str(exc), table, key=exc.key) from None
 
 
 def _beam_and_scan(reader, data):
@@ -342,7 +358,8 @@ def _beam_and_scan(reader, data):
                                               "the scan's start (a [robot] is taught to put its "
                                               "beam there)")
     sensor = reader.table(data["sensor"], "sensor", _SENSOR_KEYS)
-    scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"})
+    scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"}
+                             | set(sensor_settings.MOTION_KEYS))
 
     emitter = sensor.get("emitter")
     if not isinstance(emitter, list) or len(emitter) not in (2, 3):
