@@ -58,6 +58,11 @@ def add_wafer(doc, wafer, container=None, frame=None):
     placement = wafer_placement(wafer)
     obj.Placement = placement if frame is None else frame.inverse().multiply(placement)
     roles.set_role(obj, roles.WAFER)
+    if wafer.bow:
+        # SPEC §10: the disc carries the placement, diameter and thickness; the bow rides along
+        # as a property (cad/bowed_solid.py makes the solid of revolution for B-rep checks).
+        roles.add_property(obj, "App::PropertyDistance", "Bow", "Height of the wafer's centre "
+                           "above its rim (paraboloid bow; negative: centre down)", wafer.bow)
     if container is not None:
         container.addObject(obj)
     return obj

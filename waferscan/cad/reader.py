@@ -76,8 +76,10 @@ def wafer_from(instance, name):
     except NotADisc as exc:
         raise InputError(document_source(instance.root.Document), None,
                          f"{instance.path} is tagged as a wafer but {exc}") from None
+    holder = roles.role_holder(instance.obj)
+    bow = _value(holder.Bow) if "Bow" in holder.PropertiesList else 0.0  # SPEC §10
     return Wafer(name=name, center=center, normal=normal, diameter=diameter,
-                 thickness=thickness)
+                 thickness=thickness, bow=bow)
 
 
 def carrier_from(instance):

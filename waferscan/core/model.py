@@ -39,6 +39,9 @@ class Wafer:
     thickness: float
     carrier: str | None = None
     slot: int | None = None  # the slot it was loaded into, when known; not used by the scan
+    # SPEC §10: the bottom surface is bow (1 - r²/R²) above the rim's bottom circle, whose
+    # centre ``center`` then is (core/bow.py); 0: the flat disc.
+    bow: float = 0.0
 
     @property
     def radius(self):
