@@ -61,3 +61,18 @@ def test_the_bow_survives_the_document():
         assert scan_document(doc, "document").runs == direct.runs
     finally:
         App.closeDocument(doc.Name)
+
+
+def test_crosscheck_and_the_brep_engine_confirm_a_bowed_layout():
+    from waferscan.cad.brep import crosscheck
+
+    wafers = tuple(replace(w, bow=0.1) for w in PAPER.wafers[:3])
+    layout = replace(PAPER, robot=None, wafers=wafers).with_scan(final_z=330.0)
+    doc = build_document(layout, "BowCheck")
+    try:
+        check = crosscheck(doc)
+        assert check.ok, check
+        assert len(check.wafers) == 3 and check.largest_deviation <= 1e-6
+        assert scan_document(doc, "brep").runs == scan_layout(layout).runs
+    finally:
+        App.closeDocument(doc.Name)

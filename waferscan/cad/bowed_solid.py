@@ -33,3 +33,14 @@ def bowed_wafer_solid(wafer):
                               App.Rotation(App.Vector(0, 0, 1), App.Vector(*wafer.normal)))
     solid.Placement = placement
     return solid
+
+
+def bowed_blocked(solid, emitter, beam):
+    """Whether the beam segment meets the bowed solid: the length of their common part, since
+    OpenCASCADE's distToShape misses a segment that dips into a surface of revolution and out
+    again (its extrema there); a segment wholly inside counts by its emitter."""
+    end = tuple(o + beam.length * d for o, d in zip(emitter, beam.direction))
+    if solid.isInside(App.Vector(*emitter), 0.0, True):
+        return True
+    edge = Part.LineSegment(App.Vector(*emitter), App.Vector(*end)).toShape()
+    return solid.common(edge).Length > 0.0
