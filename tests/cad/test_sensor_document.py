@@ -105,3 +105,18 @@ def test_cli_scan_with_a_spot_and_its_errors(tmp_path):
     done = subprocess.run(env_cmd + ["--engine", "loop"], cwd=ROOT, capture_output=True,
                           text=True, timeout=300)
     assert done.returncode == 2 and "analytic engine only" in done.stderr
+
+
+def test_settings_made_without_the_sensor_properties_read_as_the_ideal_sensor():
+    # The GUI's Run scan adds a ScanSettings object of its own (features.make_settings) to a
+    # document of tagged solids: none of SPEC §10's properties are on it.
+    from waferscan.cad.features import make_settings
+
+    plain = build_document(replace(PAPER, robot=None), "BareSettings")
+    try:
+        plain.removeObject("ScanSettings")
+        make_settings(plain, PAPER.scan, PAPER.mapping, None)
+        read = read_layout(plain)
+        assert read.spot is None and read.amplifier is None and read.scan.latch == "step"
+    finally:
+        App.closeDocument(plain.Name)

@@ -67,7 +67,7 @@ def read_sensor_settings(scene, layout):
             values[key] = sensor_settings.SETTING_KEYS[key](number)
         except ValueError as exc:
             raise scene.error(f"{obj.Label}.{prop}: {exc}") from None
-    if values.get("threshold_off") == values.get("threshold_on"):
+    if "threshold_off" in values and values["threshold_off"] == values.get("threshold_on"):
         del values["threshold_off"]  # no hysteresis: OFF follows ON, wherever ON is set
     if "Latch" in obj.PropertiesList:
         values["latch"] = str(obj.Latch)
