@@ -7,7 +7,6 @@ Oracle 2: brute force, many rays over the spot, each by the exact segment-solid 
 SPEC §2 (``beam_hits_wafer``), for tilted wafers and grazing chords.
 """
 
-import math
 from dataclasses import replace
 
 import pytest

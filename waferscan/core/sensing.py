@@ -19,7 +19,7 @@ from .amplifier import (SAMPLES_PER_SPOT, grouped_level_intervals, output_interv
                         stepped_output)
 from .engines import ExactHits, analytic_engine
 from .mapping import map_slots, unscanned_slots
-from .model import DOWN, SLOW, UP, UPDOWN
+from .model import DOWN, SLOW, UP
 from .motion import STEP, Stroke
 from .spot import (DEFAULT_AMPLIFIER, IDEAL_SPOT, BlockedFraction, GroupedFraction,
                    wafer_groups)
