@@ -120,3 +120,21 @@ def test_settings_made_without_the_sensor_properties_read_as_the_ideal_sensor():
         assert read.spot is None and read.amplifier is None and read.scan.latch == "step"
     finally:
         App.closeDocument(plain.Name)
+
+
+def test_crosscheck_of_a_spot_layout_confirms_its_line_beam(tmp_path):
+    # At threshold 0.1 a 1 mm spot's runs start below the wafers, where the line is clear:
+    # crosscheck judges the geometry, the line beam's edges, and confirms them.
+    from waferscan.cad.brep import crosscheck
+
+    layout = replace(PAPER, robot=None, spot=BeamSpot(diameter=1.0), amplifier=Amplifier(0.1))
+    doc = build_document(layout, "SpotCheck")
+    try:
+        spotted = scan_document(doc)
+        assert spotted.runs[0].bottom < PAPER.wafers[0].center[2] - 0.2
+        check = crosscheck(doc)
+        assert check.ok and len(check.runs) == 10
+        assert check.result.runs == scan_layout(replace(layout, spot=None,
+                                                        amplifier=None)).runs
+    finally:
+        App.closeDocument(doc.Name)
