@@ -585,6 +585,8 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print):
     paper = paper_layout(scenario_path)
     report = {"quick": quick, "results": rows}
     report["ratios"] = bench_paper(scenario_path, rounds, add)
+    from .spot_bench import bench_spot  # SPEC §10: the paper with a 1 mm beam spot
+    report["spot"] = bench_spot(paper, rounds, add)
     bench_fab(paper, 1 if quick else 3, add)
     report["memory"] = {"vector_fab_peak_bytes": vector_peak_memory(paper)}
     bench_steps(paper, (1_000, 10_000, 100_000) if quick else

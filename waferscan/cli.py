@@ -61,6 +61,12 @@ def _check_engine(layout, engine, source, parameters=None):
         if parameters is not None and "z_step" in parameters.values:
             raise InputError(parameters.source, parameters.lines.get("z_step"), message)
         raise InputError(source, None, message)
+    from .core.sensing import ideal_sensor
+
+    if not ideal_sensor(layout) and engine != "analytic":
+        # SPEC §10: a spot's blocked fraction and latching in motion are closed forms.
+        raise InputError(source, None, f"a beam spot or latch = {layout.scan.latch} is "
+                                       f"computed by the analytic engine only (not {engine})")
 
 
 def _scan_input(path, engine, parameters=None):
@@ -161,6 +167,10 @@ def cmd_demo(args):
 
 
 def cmd_scan(args):
+    if args.plot:
+        from .signal_plot import check_plot_path
+
+        check_plot_path(args.plot)  # before the scan: a wrong suffix wastes no time
     parameters = read_parameters(args.params) if args.params else None
     overrides = {k: v for k, v in (("mode", args.mode), ("direction", args.direction)) if v}
     if overrides:
@@ -170,6 +180,10 @@ def cmd_scan(args):
     if args.out:
         _write(args.out, format_results(None, "SCF" if result.layout.scan.mode == "fast"
                                         else "SCS", result))
+    if args.plot:
+        from .signal_plot import plot_signal  # matplotlib only when a plot is asked for
+
+        plot_signal(result, args.plot)
     _print_result(result, args.json)
     _warn(result)
     return 0
@@ -272,6 +286,8 @@ def build_parser():
     scan.add_argument("--direction", choices=DIRECTIONS)
     scan.add_argument("--out", metavar="FILE", help="write the results in results.txt format")
     scan.add_argument("--json", action="store_true", help="print one JSON object")
+    scan.add_argument("--plot", metavar="FILE", help="draw the sensor's signal b(z), thresholds, "
+                      "edges and slot windows to a .png or .svg")
     scan.set_defaults(run=cmd_scan)
 
     layout = sub.add_parser("layout", help="build a FreeCAD layout from a scenario")

@@ -15,6 +15,7 @@ import FreeCAD as App
 import Part
 
 from ..core.engines import geometric_edges, wafer_edges
+from .bowed_solid import bowed_blocked, bowed_wafer_solid
 from .document_scan import stepper_through_document
 from .reader import DocumentScene
 
@@ -43,13 +44,17 @@ def brep_stepper(scene, mover):
 
     def prepare(layout, reachable):
         solids = {i: scene.wafers[i].shape() for i in reachable}
+        tests = {i: brep_blocked for i in reachable}
+        for i in reachable:
+            if layout.wafers[i].bow:  # SPEC §10: the document's disc stands for a bowed wafer
+                solids[i], tests[i] = bowed_wafer_solid(layout.wafers[i]), bowed_blocked
         boxes = {i: s.BoundBox for i, s in solids.items()}
 
         def hits(beam):
             box = beam_edge(beam.emitter, beam).BoundBox
             box.enlarge(10 * TOUCH)
             return [i for i, solid in solids.items()
-                    if box.intersect(boxes[i]) and brep_blocked(solid, beam.emitter, beam)]
+                    if box.intersect(boxes[i]) and tests[i](solid, beam.emitter, beam)]
 
         return hits
 
@@ -148,15 +153,27 @@ def crosscheck(doc, result=None):
 
     scene = DocumentScene.of(doc)
     result = result or scan_document(doc, "analytic")
+    if result.layout.spot is not None and not result.layout.spot.ideal:
+        # SPEC §10: OpenCASCADE judges geometry, the line beam's edges; a spot's runs are
+        # threshold crossings of b(z), which the tests check against closed forms and rays.
+        from dataclasses import replace
+
+        from ..core.scan import scan_layout
+
+        result = scan_layout(replace(result.layout, spot=None, amplifier=None))
     layout = result.layout
     scan = layout.scan
     step = scan.z_step if scan.z_step > 0 else 0.01
     solids = [i.shape() for i in scene.wafers]
+    tests = [brep_blocked] * len(solids)
+    for i, wafer in enumerate(layout.wafers):
+        if wafer.bow:  # SPEC §10: the solid of revolution, not the document's disc
+            solids[i], tests[i] = bowed_wafer_solid(wafer), bowed_blocked
 
     def blocked(z, only=None):
         emitter = layout.emitter_at(z)
-        chosen = solids if only is None else [solids[only]]
-        return any(brep_blocked(s, emitter, layout.beam) for s in chosen)
+        chosen = range(len(solids)) if only is None else [only]
+        return any(tests[i](solids[i], emitter, layout.beam) for i in chosen)
 
     runs = []
     for run in result.runs:

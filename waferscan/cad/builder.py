@@ -8,7 +8,7 @@ from contextlib import contextmanager
 
 import FreeCAD as App
 
-from . import features, roles
+from . import features, roles, sensor_properties
 
 
 def carrier_placement(carrier):
@@ -58,6 +58,11 @@ def add_wafer(doc, wafer, container=None, frame=None):
     placement = wafer_placement(wafer)
     obj.Placement = placement if frame is None else frame.inverse().multiply(placement)
     roles.set_role(obj, roles.WAFER)
+    if wafer.bow:
+        # SPEC §10: the disc carries the placement, diameter and thickness; the bow rides along
+        # as a property (cad/bowed_solid.py makes the solid of revolution for B-rep checks).
+        roles.add_property(obj, "App::PropertyDistance", "Bow", "Height of the wafer's centre "
+                           "above its rim (paraboloid bow; negative: centre down)", wafer.bow)
     if container is not None:
         container.addObject(obj)
     return obj
@@ -75,7 +80,8 @@ def build_document(layout, name="WaferScanLayout", doc=None):
 
 def _build(layout, name, doc):
     doc = doc or App.newDocument(name)
-    features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
+    settings = features.make_settings(doc, layout.scan, layout.mapping, layout.carrier)
+    sensor_properties.add_sensor_properties(settings, layout)  # SPEC §10
     # The assemblies first, while the document is small: each App::Part makes an origin whose
     # six features FreeCAD names itself (X_Axis, ...), searching every object's name for a free
     # one. With the wafers already there, 400 carriers took 1.5 s of that search.

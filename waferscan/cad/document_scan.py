@@ -76,7 +76,7 @@ class _LocalDisc:
         turn.A14 = turn.A24 = turn.A34 = 0.0
         n = turn.multVec(self.normal)
         return Wafer(self.wafer.name, (c.x, c.y, c.z), (n.x, n.y, n.z), self.wafer.diameter,
-                     self.wafer.thickness)
+                     self.wafer.thickness, bow=self.wafer.bow)
 
 
 def read_beam(instance, ends=None):

@@ -21,6 +21,7 @@ from . import roles
 from .disc import NotADisc, disc_of
 from .features import SETTINGS_PROPERTIES
 from .scene import scene_instances
+from .sensor_properties import read_sensor_settings
 
 
 def _value(quantity):
@@ -75,8 +76,10 @@ def wafer_from(instance, name):
     except NotADisc as exc:
         raise InputError(document_source(instance.root.Document), None,
                          f"{instance.path} is tagged as a wafer but {exc}") from None
+    holder = roles.role_holder(instance.obj)
+    bow = _value(holder.Bow) if "Bow" in holder.PropertiesList else 0.0  # SPEC §10
     return Wafer(name=name, center=center, normal=normal, diameter=diameter,
-                 thickness=thickness)
+                 thickness=thickness, bow=bow)
 
 
 def carrier_from(instance):
@@ -180,6 +183,7 @@ def read_layout(doc, scene=None):
     beam = Beam((emitter[0], emitter[1], scan.start_z), beam.direction, beam.length)
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen or names[0])
+    layout = read_sensor_settings(scene, layout)  # SPEC §10: spot, thresholds, latch
     _check_values(scene, scanner, carriers, beam, lift_axis, layout)
     return layout
 

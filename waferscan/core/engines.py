@@ -120,6 +120,7 @@ def vector_engine(layout, progress=None, chunk_elements=VECTOR_CHUNK_ELEMENTS):
     reachable = reachable_wafers(layout)
     count = scan.position_count
     columns = [c[None, :] for c in wafer_columns([layout.wafers[i] for i in reachable])]
+    bowed = [j for j, i in enumerate(reachable) if layout.wafers[i].bow]
     first = np.full(len(reachable), -1)
     last = np.full(len(reachable), -1)
     blocked = np.zeros(count, dtype=bool)
@@ -129,6 +130,10 @@ def vector_engine(layout, progress=None, chunk_elements=VECTOR_CHUNK_ELEMENTS):
         z = scan.position(ks)
         ox, oy, oz = layout.emitter_at(z)
         hits = beam_hits_wafers(ox[:, None], oy[:, None], oz[:, None], layout.beam, *columns)
+        for j in bowed:  # SPEC §10: a bowed wafer is no disc; the exact test, step by step
+            wafer = layout.wafers[reachable[j]]
+            hits[:, j] = [beam_hits_wafer((float(x), float(y), float(w)), layout.beam, wafer)
+                          for x, y, w in zip(ox, oy, oz)]
         blocked[start:start + len(ks)] = hits.any(axis=1)
         any_hit = hits.any(axis=0)
         lo = start + np.argmax(hits, axis=0)

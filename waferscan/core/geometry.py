@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+from .bow import beam_hits_bowed_wafer, bowed_translation_range
+
 # Touching counts as blocked: the wafer is inflated by this much (mm) in every test (SPEC §2).
 TOUCH_TOLERANCE = 1e-9
 
@@ -21,6 +23,8 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     (parameter lam in mm) the thickness band and the radius each allow one interval of lam; the
     beam hits when those and [0, L] overlap.
     """
+    if wafer.bow:
+        return beam_hits_bowed_wafer(emitter, beam, wafer, tol)  # SPEC §10: not a disc
     ox, oy, oz = emitter
     ex, ey, ez = beam.direction
     cx, cy, cz = wafer.center
@@ -161,7 +165,9 @@ def wafer_bounds(wafer):
     mid = wafer.mid_center
     half = []
     for k in wafer.normal:
-        half.append(wafer.radius * math.sqrt(max(0.0, 1.0 - k * k)) + 0.5 * wafer.thickness * abs(k))
+        # A bowed wafer reaches |bow| further along its normal, either way (bounds only grow).
+        half.append(wafer.radius * math.sqrt(max(0.0, 1.0 - k * k))
+                    + (0.5 * wafer.thickness + abs(wafer.bow)) * abs(k))
     return (tuple(m - h for m, h in zip(mid, half)), tuple(m + h for m, h in zip(mid, half)))
 
 
@@ -192,7 +198,7 @@ def accessible(layout, wafer, z_from, z_to, tol=TOUCH_TOLERANCE):
     mid = wafer.mid_center
     nx, ny, _ = wafer.normal
     # Every point of the solid is mid + (in-plane part, |.| <= R) + (along n, |.| <= t/2).
-    reach_xy = wafer.radius + 0.5 * wafer.thickness * math.hypot(nx, ny)
+    reach_xy = wafer.radius + (0.5 * wafer.thickness + abs(wafer.bow)) * math.hypot(nx, ny)
     ax, ay, az = layout.lift_axis
     drift = math.hypot(ax, ay) / az * (hi_z - lo_z)
     return _distance_to_segment_xy(mid, start, end) <= reach_xy + drift + margin
@@ -219,12 +225,13 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
         h = thickness / 2.0
         (cx, cy, cz), (nx, ny, nz) = wafer.center, wafer.normal
         mid_z = cz + h * nz
-        half_z = radius * math.sqrt(max(0.0, 1.0 - nz * nz)) + 0.5 * thickness * abs(nz)
+        bow = abs(wafer.bow)  # 0 but for a bowed wafer (SPEC §10), which reaches further
+        half_z = radius * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
         if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
             continue
         px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
         f = 0.0 if dd == 0.0 else min(1.0, max(0.0, (px * dx + py * dy) / dd))
-        reach_xy = radius + 0.5 * thickness * math.hypot(nx, ny)
+        reach_xy = radius + (0.5 * thickness + bow) * math.hypot(nx, ny)
         if math.hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
             found.append(index)
     return found
@@ -285,6 +292,8 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     corner of two boundaries, where a line crosses the conic, or where the conic is tangent to a
     line tau = const; all those candidates are listed and the feasible ones kept.
     """
+    if wafer.bow:
+        return bowed_translation_range(emitter, beam, axis, wafer, tol)  # SPEC §10
     # Scalars, not tuples from generators, up to the common case below: this runs once per
     # wafer of every analytic scan (the same arithmetic in the same order as _dot).
     ex, ey, ez = e = beam.direction

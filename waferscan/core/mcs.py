@@ -16,7 +16,7 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import schema, validation
+from . import schema, sensor_settings, validation
 from .errors import InputError
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -33,7 +33,8 @@ CARRIER_KEYS = {
     "wafer_thickness": schema.positive,
     "wafer_diameter": schema.positive,
 }
-PARAMETER_KEYS = {**schema.SCAN_KEYS, **CARRIER_KEYS, **schema.MAPPING_KEYS}
+PARAMETER_KEYS = {**schema.SCAN_KEYS, **CARRIER_KEYS, **schema.MAPPING_KEYS,
+                  **sensor_settings.SETTING_KEYS}  # the last: SPEC §10's sensor and latch
 _CARRIER_FIELDS = {"slot_count": "slot_count", "slot_pitch": "pitch",
                    "first_slot_z": "first_slot_z", "wafer_thickness": "wafer_thickness",
                    "wafer_diameter": "wafer_diameter"}
@@ -141,6 +142,14 @@ def apply_parameters(layout, parameters):
         if key is None:
             raise InputError(parameters.source, None, str(exc)) from None
         raise parameters.error(key, str(exc)) from None
+    settings = {k: v[k] for k in sensor_settings.SETTING_KEYS if k in v}
+    if settings:
+        try:
+            layout = sensor_settings.with_settings(layout, settings)
+        except sensor_settings.SettingsError as exc:
+            if exc.key in v:
+                raise parameters.error(exc.key, str(exc)) from None
+            raise InputError(parameters.source, None, str(exc)) from None
     _check_layout(layout, parameters)
     return layout
 
@@ -172,6 +181,9 @@ def used_parameters(layout):
     values["thickness_tolerance"] = mapping.thickness_tolerance_for(carrier.wafer_thickness)
     values["position_tolerance"] = mapping.position_tolerance
     values["protrusion_limit"] = mapping.protrusion_limit
+    # SPEC §10's settings only where they differ from the ideal sensor: a scan without them
+    # lists what it always did.
+    values.update(sensor_settings.given_values(layout))
     return values
 
 
@@ -228,6 +240,9 @@ def parse_commands(text):
 
 
 RESULT_COLUMNS = ("slot", "slot_z", "wafer", "in", "out", "diff", "state")
+# SPEC §10's raw data, as load ports report it: added when the scan uses a real sensor (a spot,
+# thresholds or latching in motion), so that the paper's results.txt stays as it was.
+READING_COLUMNS = ("thickness", "bottom")
 
 
 def _cell(text):
@@ -265,11 +280,18 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
         header += [(k, _text(v)) for k, v in used_parameters(result.layout).items()]
     lines = [f"{k} = {v}".rstrip() for k, v in header]
     if result is not None and not error:
-        lines += ["", "\t".join(RESULT_COLUMNS)]
+        from .sensing import slot_readings
+
+        readings = slot_readings(result) if sensor_settings.given_values(result.layout) \
+            else None
+        columns = RESULT_COLUMNS + (READING_COLUMNS if readings else ())
+        lines += ["", "\t".join(columns)]
         for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
             names = _cell(",".join(wafers)) or "-"
-            lines.append("\t".join((str(slot), _mm(seat), names, _mm(z_in),
-                                    _mm(z_out), _mm(diff), state)))
+            cells = [str(slot), _mm(seat), names, _mm(z_in), _mm(z_out), _mm(diff), state]
+            if readings:
+                cells += [_mm(x) for x in readings[slot - 1]]
+            lines.append("\t".join(cells))
     return "\n".join(lines) + "\n"
 
 

@@ -39,6 +39,9 @@ class Wafer:
     thickness: float
     carrier: str | None = None
     slot: int | None = None  # the slot it was loaded into, when known; not used by the scan
+    # SPEC §10: the bottom surface is bow (1 - r²/R²) above the rim's bottom circle, whose
+    # centre ``center`` then is (core/bow.py); 0: the flat disc.
+    bow: float = 0.0
 
     @property
     def radius(self):
@@ -104,6 +107,12 @@ class ScanParameters:
     direction: str = UP
     scan_speed: float = 100.0  # mm/s
     sensor_response: float = 0.0  # s
+    # SPEC §10: how the controller latches edges ("step": on the grid, as above; "encoder" or
+    # "sampled": during a continuous stroke, see core/motion.py), the stroke's acceleration
+    # (mm/s², inf: full speed at once) and the controller's read period (s) for "sampled".
+    latch: str = "step"
+    acceleration: float = math.inf
+    sample_period: float = 0.0
 
     @property
     def exact(self):
@@ -169,6 +178,10 @@ class Layout:
     mapping: MappingTolerances = field(default_factory=MappingTolerances)
     carrier: str | None = None  # name of the scanned carrier; None: the only one
     robot: RobotSpec | None = None  # what carries the scanner, when a robot does
+    # SPEC §10: the beam's cross-section (core.spot.BeamSpot; None: the ideal line) and the
+    # amplifier's thresholds (core.spot.Amplifier; None: 0.5, no hysteresis).
+    spot: object = None
+    amplifier: object = None
 
     @property
     def scanned_carrier(self):

@@ -25,13 +25,17 @@ STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (2
 def result_dict(result):
     """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine, warnings.
     A slot's ``state`` is its code character's value: 0-6, or "?" when unscanned."""
+    from .sensing import scan_edges, slot_readings
+
+    readings = slot_readings(result)
     return {
         "code": result.code,
         "e87": result.e87,
         "engine": result.engine,
         "slots": [{"slot": s.slot, "z": s.seat_z, "state": s.state,
-                   "state_name": STATE_NAMES[s.state], "runs": list(s.runs)}
-                  for s in result.slot_map.slots],
+                   "state_name": STATE_NAMES[s.state], "runs": list(s.runs),
+                   "thickness": thickness, "bottom": bottom}
+                  for s, (thickness, bottom) in zip(result.slot_map.slots, readings)],
         "runs": [{"in": r.z_in, "out": r.z_out, "diff": r.diff, "wafers": list(r.wafers)}
                  for r in result.runs],
         "wafers": [{"name": w.name, "in": w.z_in, "out": w.z_out, "diff": w.diff}
@@ -39,6 +43,7 @@ def result_dict(result):
         "protrusions": [{"name": name, "mm": amount} for name, amount in result.protrusions],
         "params": used_parameters(result.layout),
         "warnings": list(result.warnings),
+        "edges": scan_edges(result),  # SPEC §10: every ON/OFF edge in the order latched
     }
 
 

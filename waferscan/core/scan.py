@@ -70,6 +70,10 @@ class ScanResult:
     slot_map: object
     protrusions: tuple  # (wafer name, protrusion in mm) for the scanned carrier's wafers
     warnings: tuple = ()  # why some of what is reported cannot be known (SPEC §3), as sentences
+    # SPEC §10, a real sensor's scan only (core/sensing.py): every latched ON/OFF edge in the
+    # order latched, and the blocked fraction along the scan (a SignalTrace).
+    edges: tuple = ()
+    signal: object = None
 
     @property
     def code(self):
@@ -275,6 +279,11 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None):
 
     ``stepper(layout, progress)``, when given, computes the hits in place of the core engine of
     that name (the CAD layer's ``document`` and ``brep`` engines come in this way)."""
+    if layout.spot is not None or layout.scan.latch != "step":
+        from .sensing import ideal_sensor, sensed_scan
+
+        if not ideal_sensor(layout):  # SPEC §10: a beam spot, latching in motion
+            return sensed_scan(layout, engine, progress)
     scan = layout.scan
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)

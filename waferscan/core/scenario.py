@@ -19,7 +19,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from . import schema, validation
+from . import schema, sensor_settings, validation
 from .errors import InputError
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
@@ -258,6 +258,7 @@ def parse_scenario(text, source="<scenario>", folder=None):
     robot = _robot(reader, data["robot"]) if "robot" in data else None
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
+    layout = _sensor_settings(reader, layout, sensor, scan_table)
     _check_layout(reader, layout, len(data.get("wafer", [])))
     return layout
 
@@ -300,7 +301,7 @@ def _robot(reader, data):
 
 
 _CARRIER_KEYS = {"name", "slots", "pitch", "first_slot_z", "center", "wafer_diameter",
-                 "wafer_thickness", "load", "front", "support_span"}
+                 "wafer_thickness", "load", "front", "support_span", "wafer_bow"}
 
 
 def _carrier(reader, data, i):
@@ -333,7 +334,22 @@ def _carrier(reader, data, i):
     )
 
 
-_SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"}
+_SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"} | set(sensor_settings.SPOT_KEYS)
+
+
+def _sensor_settings(reader, layout, sensor, scan_table):
+    """SPEC §10's [sensor] spot and threshold keys and [scan] latch keys, on the layout."""
+    values = {k: reader.value(sensor, "sensor", k, check)
+              for k, check in sensor_settings.SPOT_KEYS.items() if k in sensor}
+    values.update({k: reader.value(scan_table, "scan", k, check)
+                   for k, check in sensor_settings.MOTION_KEYS.items() if k in scan_table})
+    if not values:
+        return layout
+    try:
+        return sensor_settings.with_settings(layout, values)
+    except sensor_settings.SettingsError as exc:
+        table = "scan" if exc.key in sensor_settings.MOTION_KEYS else "sensor"
+        raise reader.error(str(exc), table, key=exc.key) from None
 
 
 def _beam_and_scan(reader, data):
@@ -342,7 +358,8 @@ def _beam_and_scan(reader, data):
                                               "the scan's start (a [robot] is taught to put its "
                                               "beam there)")
     sensor = reader.table(data["sensor"], "sensor", _SENSOR_KEYS)
-    scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"})
+    scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"}
+                             | set(sensor_settings.MOTION_KEYS))
 
     emitter = sensor.get("emitter")
     if not isinstance(emitter, list) or len(emitter) not in (2, 3):
@@ -400,8 +417,9 @@ def _load_states(reader, carrier, text, i):
     return states
 
 
-def seated_wafers(carrier, slot, state, first_index):
-    """The wafer solids a slot holds in a given state (see the module's docstring)."""
+def seated_wafers(carrier, slot, state, first_index, bow=0.0):
+    """The wafer solids a slot holds in a given state (see the module's docstring); ``bow``
+    (mm, SPEC §10) bows them, their rims seated as a flat wafer's."""
     cx, cy = carrier.center
     seat = carrier.seat_z(slot)
     t, d = carrier.wafer_thickness, carrier.wafer_diameter
@@ -409,7 +427,7 @@ def seated_wafers(carrier, slot, state, first_index):
 
     def wafer(k, center, normal=up, thickness=t):
         return Wafer(name=f"{carrier.name}_W{first_index + k:02d}", center=center, normal=normal,
-                     diameter=d, thickness=thickness, carrier=carrier.name, slot=slot)
+                     diameter=d, thickness=thickness, carrier=carrier.name, slot=slot, bow=bow)
 
     if state == "absent":
         return []
@@ -433,12 +451,18 @@ def seated_wafers(carrier, slot, state, first_index):
     raise ValueError(f"unknown wafer state {state!r}")
 
 
-_WAFER_KEYS = {"carrier", "slot", "state", "name", "center", "normal", "diameter", "thickness"}
+_WAFER_KEYS = {"carrier", "slot", "state", "name", "center", "normal", "diameter", "thickness",
+               "bow"}
 
 
 def _wafers(reader, data, carriers):
     by_name = {c.name: c for c in carriers}
     plans = {c.name: {} for c in carriers}  # carrier -> {slot: state}
+    # SPEC §10: each carrier's wafer_bow, and a [[wafer]]'s own bow by (carrier, slot).
+    carrier_bows = {c.name: reader.value(data["carrier"][i], "carrier", "wafer_bow",
+                                         schema.number, index=i, default=0.0)
+                    for i, c in enumerate(carriers)}
+    slot_bows = {}
     for i, c in enumerate(carriers):
         raw = data["carrier"][i]
         if "load" in raw:
@@ -476,6 +500,9 @@ def _wafers(reader, data, carriers):
                         state == "cross" and other == slot + 1):
                     del plan[other]
             plan[slot] = state
+            if "bow" in w:
+                slot_bows[(carrier_name, slot)] = reader.value(w, "wafer", "bow", schema.number,
+                                                               index=i)
             continue
         name = reader.value(w, "wafer", "name", schema.name, index=i, default=f"W{i + 1}")
         center = reader.value(w, "wafer", "center", schema.vector(3), index=i, required=True)
@@ -491,12 +518,15 @@ def _wafers(reader, data, carriers):
                                   default=default.wafer_diameter),
             thickness=reader.value(w, "wafer", "thickness", schema.positive, index=i,
                                    default=default.wafer_thickness),
-            carrier=carrier_name))
+            carrier=carrier_name,
+            bow=reader.value(w, "wafer", "bow", schema.number, index=i,
+                             default=carrier_bows[carrier_name] if carrier_name else 0.0)))
     wafers = []
     for carrier in carriers:
         index = 1
         for slot in sorted(plans[carrier.name]):
-            made = seated_wafers(carrier, slot, plans[carrier.name][slot], index)
+            bow = slot_bows.get((carrier.name, slot), carrier_bows[carrier.name])
+            made = seated_wafers(carrier, slot, plans[carrier.name][slot], index, bow)
             wafers += made
             index += len(made)
     names = {w.name for w in wafers}

@@ -178,6 +178,10 @@ class SlotCodeDialog(QtGui.QDialog):
         layout = QtGui.QVBoxLayout(self)
         layout.addWidget(self.code_label)
         layout.addLayout(strip)
+        from .signal_view import SignalView  # SPEC §10: the sensor's signal, the whole scan
+
+        self.signal_view = SignalView(result, self)
+        layout.addWidget(self.signal_view)
         layout.addLayout(lower, 1)
 
     def copy_code(self):

@@ -75,6 +75,10 @@ class ScanTaskPanel(ClosableTaskPanel):
         layout_box.addWidget(about)
         layout_box.addLayout(form)
         layout_box.addWidget(self.progress)
+        from .signal_view import live_trace  # SPEC §10: b(z) beside the animation
+
+        self.trace = live_trace(animation)
+        layout_box.addWidget(self.trace)
         layout_box.addLayout(buttons)
         layout_box.addWidget(self.status)
         layout_box.addStretch(1)

@@ -1,0 +1,70 @@
+"""``waferscan scan … --plot FILE.png|svg`` (SPEC §10): the signal plot is written in the venv
+(PyPI's matplotlib) and inside FreeCAD (Debian's), its samples are the model's b(z), and a
+wrong suffix is bad input."""
+
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from waferscan.cli import paper_scenario
+from waferscan.core.scan import scan_layout
+from waferscan.core.scenario import read_scenario
+from waferscan.core.spot import BeamSpot, BlockedFraction
+from waferscan.signal_plot import signal_samples
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def spot_scenario(tmp_path):
+    text = (ROOT / "resources" / "examples" / "paper.toml").read_text()
+    path = tmp_path / "spot.toml"
+    path.write_text(text.replace("[sensor]\n", "[sensor]\nspot_diameter = 1.0\n", 1))
+    return path
+
+
+def test_plot_files_from_the_venv(tmp_path):
+    scenario = spot_scenario(tmp_path)
+    for name, head in (("s.png", b"\x89PNG\r\n\x1a\n"), ("s.svg", b"<?xml")):
+        done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(scenario),
+                               "--plot", str(tmp_path / name)], cwd=ROOT, capture_output=True,
+                              timeout=300)
+        assert done.returncode == 0, done.stderr
+        data = (tmp_path / name).read_bytes()
+        assert data.startswith(head) and len(data) > 10_000
+    assert b"<svg" in (tmp_path / "s.svg").read_bytes()[:2000]
+    assert not list(tmp_path.glob(".*tmp*"))
+
+
+def test_a_plot_without_png_or_svg_is_bad_input(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan",
+                           str(spot_scenario(tmp_path)), "--plot", str(tmp_path / "s.pdf")],
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2
+    assert done.stderr.startswith(f"waferscan: error: {tmp_path / 's.pdf'}: --plot writes .png")
+    assert not (tmp_path / "s.pdf").exists()
+
+
+def test_plot_inside_freecad(tmp_path):
+    scenario = spot_scenario(tmp_path)
+    target = tmp_path / "fc.png"
+    code = (f"import sys; sys.path.insert(0, {str(ROOT)!r}); import waferscan.cli as c; "
+            f"c.main(['scan', {str(scenario)!r}, '--plot', {str(target)!r}])")
+    done = subprocess.run(["freecadcmd", "-c", code], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+    assert target.read_bytes().startswith(b"\x89PNG"), done.stdout + done.stderr
+
+
+def test_the_plotted_samples_are_the_models_blocked_fraction():
+    paper = replace(read_scenario(paper_scenario()), spot=BeamSpot(diameter=1.0))
+    result = scan_layout(paper)
+    z, b = signal_samples(result)
+    first = paper.wafers[0]
+    fraction = BlockedFraction(paper, [first], paper.spot)
+    near = (z > first.center[2] - 0.6) & (z < first.center[2] + 1.3)
+    assert near.sum() > 100
+    expected = fraction(z[near] - paper.beam.emitter[2])
+    assert np.allclose(b[near], expected, atol=1e-12)
+    assert b.max() > 0.99 and abs(b[near].max() - fraction(first.center[2] + 0.35 - 280.0)) < 1e-3

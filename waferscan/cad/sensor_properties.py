@@ -1,0 +1,80 @@
+"""SPEC §10's sensor settings on the document's ScanSettings object, in units: the beam spot
+(lengths), the amplifier's thresholds (fractions), the latch, the stroke's acceleration and the
+controller's read period. Kept apart from features.py so that the settings of §10 are added and
+read in one place; a document made before them reads as the ideal sensor.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..core import sensor_settings
+from ..core.motion import LATCHES
+from . import roles
+
+# (property, kind, key of core.sensor_settings, tooltip). Zero means "not set" for the spot's
+# lengths (the ideal line), the acceleration (infinite) and the read period.
+SENSOR_PROPERTIES = (
+    ("SpotDiameter", "App::PropertyLength", "spot_diameter",
+     "Diameter of a round beam spot; 0: the ideal line (SPEC §10)"),
+    ("SpotWidth", "App::PropertyLength", "spot_width", "Width of a slit beam spot (with SpotHeight)"),
+    ("SpotHeight", "App::PropertyLength", "spot_height", "Height of a slit beam spot (with SpotWidth)"),
+    ("ThresholdOn", "App::PropertyFloat", "threshold_on",
+     "Blocked fraction of the spot at which the amplifier's output turns ON"),
+    ("ThresholdOff", "App::PropertyFloat", "threshold_off",
+     "Blocked fraction below which it turns OFF again (<= ThresholdOn: hysteresis)"),
+    ("Acceleration", "App::PropertyAcceleration", "acceleration",
+     "Acceleration of the scan stroke; 0: full speed at once"),
+    ("SamplePeriod", "App::PropertyFloat", "sample_period",
+     "Period in s at which the controller reads the sensor (latch = sampled)"),
+)
+
+
+def add_sensor_properties(obj, layout):
+    """Add the §10 properties to a ScanSettings object, filled from the layout."""
+    values = sensor_settings.current_values(layout)
+    for prop, kind, key, tip in SENSOR_PROPERTIES:
+        value = values[key]
+        if key == "acceleration" and math.isinf(value):
+            value = 0.0
+        roles.add_property(obj, kind, prop, tip, value)
+    roles.add_property(obj, "App::PropertyEnumeration", "Latch",
+                       "step: edges on the step grid; encoder: latched in motion after the "
+                       "sensor's response; sampled: at the controller's next read")
+    obj.Latch = list(LATCHES)
+    obj.Latch = layout.scan.latch
+
+
+def _number(quantity):
+    return float(getattr(quantity, "Value", quantity))
+
+
+def read_sensor_settings(scene, layout):
+    """The layout with the §10 settings of the document's ScanSettings object (none: as is).
+    A bad value is the scene's error, naming the object and property."""
+    if len(scene.settings) != 1:
+        return layout
+    obj = roles.role_holder(scene.settings[0].obj)
+    values = {}
+    for prop, _, key, _ in SENSOR_PROPERTIES:
+        if prop not in obj.PropertiesList:
+            continue
+        number = _number(getattr(obj, prop))
+        if number == 0.0 and key in ("acceleration", "sample_period", "spot_diameter",
+                                     "spot_width", "spot_height"):
+            continue  # not set
+        try:
+            values[key] = sensor_settings.SETTING_KEYS[key](number)
+        except ValueError as exc:
+            raise scene.error(f"{obj.Label}.{prop}: {exc}") from None
+    if "threshold_off" in values and values["threshold_off"] == values.get("threshold_on"):
+        del values["threshold_off"]  # no hysteresis: OFF follows ON, wherever ON is set
+    if "Latch" in obj.PropertiesList:
+        values["latch"] = str(obj.Latch)
+    if not values:
+        return layout
+    try:
+        return sensor_settings.with_settings(layout, values)
+    except sensor_settings.SettingsError as exc:
+        prop = next((p for p, _, k, _ in SENSOR_PROPERTIES if k == exc.key), "Latch")
+        raise scene.error(f"{obj.Label}.{prop}: {exc}") from None
