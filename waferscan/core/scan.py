@@ -18,7 +18,8 @@ from dataclasses import dataclass
 from . import slow_scan
 from .engines import ExactHits, reachable_wafers, run_engine
 from .geometry import wafer_bounds
-from .mapping import LIMIT_SLACK, STATE_NAMES, SlotPlan, map_slots, unscanned_slots
+from .mapping import (LIMIT_SLACK, POSITION_ERROR, STATE_NAMES, SlotPlan, map_slots,
+                      unscanned_slots)
 from .model import DOWN, SLOW, UP, UPDOWN
 
 
@@ -319,6 +320,9 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
             flagged = jabbed
     slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
     slot_map = slow_scan.with_position_errors(slot_map, swept_off)
+    # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
+    probe_warnings += [why for slot, why in sorted(dict(swept_off).items())
+                       if slot_map.slots[slot - 1].state == POSITION_ERROR]
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
                              scanned_range(scan, window)) + tuple(probe_warnings)
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings,

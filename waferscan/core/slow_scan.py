@@ -393,10 +393,10 @@ def probe_pockets(layout, plan, slots, measure=None):
 
 
 def judge(layout, plan, probes):
-    """From the pockets' probes: (slots protruding by the jab, slots off position by the sweep,
-    warnings), each warning a sentence saying why (SPEC §3 "Honest results", §13)."""
+    """From the pockets' probes: (slots protruding by the jab, {slot off position by the sweep:
+    why}, warnings), each reason and warning a sentence (SPEC §3 "Honest results", §13)."""
     scan = layout.scan
-    protruding, off, warnings = [], [], []
+    protruding, off, warnings = [], {}, []
     blind = []
     for p in probes:
         if scan.jab > 0.0 and p.expected_front is not None:
@@ -413,9 +413,8 @@ def judge(layout, plan, probes):
                                 f"({', '.join(f'{a:+g}' for a in ends)} deg): its edges are not "
                                 f"known, so no position is judged from it; widen the sweep")
             elif p.shift is not None and abs(p.shift) > plan.position_tolerance + LIMIT_SLACK:
-                off.append(p.slot)
                 side = "right" if p.shift > 0 else "left"
-                warnings.append(
+                off[p.slot] = (
                     f"slot {p.slot}: the sweep ({p.sweep[0]:+.3f} to {p.sweep[1]:+.3f} deg) is "
                     f"centred {0.5 * (p.sweep[0] + p.sweep[1]):+.3f} deg where a seated wafer's "
                     f"is {0.5 * (p.expected_sweep[0] + p.expected_sweep[1]):+.3f} deg: the wafer "
@@ -434,6 +433,7 @@ def with_position_errors(slot_map, slots):
     than what they read; an unscanned or protruding slot stays as it is."""
     if not slots:
         return slot_map
+    slots = set(slots)
     states = []
     for s in slot_map.slots:
         state = s.state
