@@ -196,3 +196,36 @@ def test_slow_scan_takes_longer_than_fast_and_adds_the_arm_moves():
     assert slow - plain == pytest.approx(arm + wrist + lift_back, rel=1e-9)
     assert slow > fast
     assert result.durations == pytest.approx({"fast": fast, "slow": slow})
+
+
+def test_without_jab_or_sweep_the_mcs_files_are_as_before():
+    from waferscan.cli import paper_scenario
+    from waferscan.core.mcs import RESULT_COLUMNS, format_parameters, format_results
+    from waferscan.core.report import result_dict
+    from waferscan.core.scenario import read_scenario
+
+    paper = read_scenario(paper_scenario())
+    for mode in ("fast", "slow"):
+        result = scan_layout(paper.with_scan(mode=mode))
+        text = format_results(1, "SCF", result, timestamp="T")
+        assert "\n" + "\t".join(RESULT_COLUMNS) + "\n" in text
+        assert "front" not in text and "duration" not in text and "jab" not in text
+        assert "jab" not in format_parameters(result.layout)
+        data = result_dict(result)
+        assert all(s["front"] is None and s["sweep"] is None for s in data["slots"])
+        assert result.pockets == ()
+
+
+def test_parameters_txt_sets_and_refuses_slow_settings():
+    from waferscan.cli import paper_scenario
+    from waferscan.core.errors import InputError
+    from waferscan.core.mcs import apply_parameters, format_parameters, parse_parameters
+    from waferscan.core.scenario import read_scenario
+
+    paper = read_scenario(paper_scenario())
+    layout = apply_parameters(paper, parse_parameters("mode = slow\njab = 12.5\nsweep = 30\n"
+                                                      "wrist_speed = 45\n"))
+    assert (layout.scan.jab, layout.scan.sweep, layout.scan.wrist_speed) == (12.5, 30.0, 45.0)
+    assert "jab = 12.5\nsweep = 30.0\nwrist_speed = 45.0\n" in format_parameters(layout)
+    with pytest.raises(InputError, match=r"parameters.txt:2: sweep: must be at most 90"):
+        apply_parameters(paper, parse_parameters("jab = 1\nsweep = 91\n"))
