@@ -60,6 +60,9 @@ def dialogs():
     result["panel_status"] = commands._session["panel"].status.text()
     table, code = commands._session["dialogs"]
     result["code"] = code.code_label.text()
+    result["headers"] = [table.table.horizontalHeaderItem(c).text()
+                         for c in range(table.table.columnCount())]
+    result["rows"] = table.rows()
     finish()
 
 

@@ -54,3 +54,19 @@ def test_after_the_pockets_the_results_open_and_a_screenshot_of_a_jab_is_left(gu
     assert "1151221601220001010000010" in gui["code"]
     assert "Done" in gui["panel_status"]
     assert (ARTIFACTS / "gui-jab.png").stat().st_size > 10_000
+
+
+def test_the_results_table_shows_front_and_sweep(gui):
+    from waferscan.core.scan import scan_layout
+
+    assert gui["headers"][-3:] == ["Front [mm]", "Sweep first [°]", "Sweep last [°]"]
+    result = scan_layout(LAYOUT)
+    rows = {int(r[0]): r for r in gui["rows"]}
+    for probe in result.pockets:
+        front, first, last = rows[probe.slot][-3:]
+        assert front == ("" if probe.front is None else f"{probe.front:.3f}")
+        if probe.sweep is None:
+            assert (first, last) == ("", "")
+        else:
+            assert (first, last) == (f"{probe.sweep[0]:+.3f}", f"{probe.sweep[1]:+.3f}")
+    assert rows[8][-3:] == ["5.000", "-33.845", "+33.845"]
