@@ -179,3 +179,12 @@ def test_bad_slow_settings_name_file_line_and_key(tmp_path):
     done = waferscan("scan", EXAMPLE, "--params", params)
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert done.stderr == f"waferscan: error: {params}:2: jab: must not be negative, got ' -2'\n"
+
+
+def test_a_jab_beyond_the_arms_reach_is_refused_naming_the_joint(doc):
+    from waferscan.core.errors import InputError
+
+    settings = next(o for o in doc.Objects if "Jab" in o.PropertiesList)
+    settings.Jab = 600.0
+    with pytest.raises(InputError, match=r"the jab of 600 mm at .*(arm reaches|beyond its limits)"):
+        scan_document(doc, "document")
