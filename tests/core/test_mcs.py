@@ -73,7 +73,9 @@ ALL_KEYS_VALUES = {
 
 
 def test_every_key_is_read_with_bom_crlf_comments_and_blank_lines():
-    assert set(ALL_KEYS_VALUES) == set(mcs.PARAMETER_KEYS)
+    # SPEC §13's slow-scan keys are read in tests/core/test_slow_scan.py.
+    from waferscan.core.slow_scan import SETTING_KEYS as SLOW_KEYS
+    assert set(ALL_KEYS_VALUES) | set(SLOW_KEYS) == set(mcs.PARAMETER_KEYS)
     p = parse_parameters(ALL_KEYS_TEXT, "parameters.txt")
     assert p.values == ALL_KEYS_VALUES
     assert type(p.values["slot_count"]) is int
@@ -97,7 +99,7 @@ def test_every_key_is_applied_to_the_layout():
     assert layout.beam == PAPER.beam
 
 
-@pytest.mark.parametrize("key", sorted(mcs.PARAMETER_KEYS))
+@pytest.mark.parametrize("key", sorted(ALL_KEYS_VALUES))  # the §10 keys: test_sensor_settings
 def test_a_missing_key_keeps_the_layouts_value(key):
     others = {k: v for k, v in ALL_KEYS_VALUES.items() if k != key}
     text = "".join(f"{k} = {v}\n" for k, v in others.items())
@@ -133,7 +135,8 @@ def test_format_parameters_reads_back_to_the_same_values():
     text = format_parameters(PAPER)
     assert text.endswith("\n") and "\r" not in text
     p = parse_parameters(text)
-    assert set(p.values) == set(mcs.PARAMETER_KEYS)
+    # SPEC §10's keys are written only where they differ from the ideal sensor.
+    assert set(p.values) == set(ALL_KEYS_VALUES)
     again = apply_parameters(PAPER, p)
     assert again.scan == PAPER.scan and again.scanned_carrier == PAPER.scanned_carrier
     assert used_parameters(again) == used_parameters(PAPER)
