@@ -185,6 +185,11 @@ def cmd_scan(args):
 
         plot_signal(result, args.plot)
     _print_result(result, args.json)
+    if not args.json:  # SPEC §13: the jab and sweep per pocket, the two modes' durations
+        if result.pockets:
+            print()
+            print(report.format_pockets(result))
+        print(report.format_durations(result))
     _warn(result)
     return 0
 

@@ -156,12 +156,15 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
         layout = apply_parameters(layout, parameters)
     if check is not None:
         check(layout)
-    stepper = None
+    stepper = measure = None
     if engine in CAD_ENGINES:
         mover = mover_for(scene, layout)
+        from .pocket_probe import for_document  # SPEC §13: a slow scan's jab and sweep
+
+        mover, measure = for_document(scene, mover, layout, engine)
         if engine == "document":
             stepper = document_stepper(scene, mover)
         else:
             from .brep import brep_stepper
             stepper = brep_stepper(scene, mover)
-    return scan_layout(layout, engine, progress=progress, stepper=stepper)
+    return scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)

@@ -186,4 +186,7 @@ def make_settings(doc, scan, mapping, carrier):
                        -1.0 if mapping.thickness_tolerance is None else mapping.thickness_tolerance)
     roles.add_property(obj, "App::PropertyString", "Carrier", "Name (label) of the carrier to scan",
                        carrier or "")
+    from . import slow_scan_properties  # SPEC §13: Jab, Sweep and the arm's motion
+
+    slow_scan_properties.add_to(obj, scan)
     return obj

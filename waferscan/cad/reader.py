@@ -151,6 +151,9 @@ def _settings(scene, beam, carriers):
     scan = ScanParameters(**{k: v for k, v in values.items()
                              if k in ScanParameters.__dataclass_fields__},
                           mode=obj.Mode, direction=obj.Direction)
+    from . import slow_scan_properties  # SPEC §13: Jab, Sweep and the arm's motion
+
+    scan = slow_scan_properties.read(obj, scan, scene.error)
     tolerance = float(obj.ThicknessTolerance)
     mapping = MappingTolerances(thickness_tolerance=None if tolerance < 0 else tolerance,
                                 **{k: v for k, v in values.items()

@@ -16,7 +16,7 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import schema, sensor_settings, validation
+from . import schema, sensor_settings, slow_scan, validation
 from .errors import InputError
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -35,6 +35,7 @@ CARRIER_KEYS = {
 }
 PARAMETER_KEYS = {**schema.SCAN_KEYS, **CARRIER_KEYS, **schema.MAPPING_KEYS,
                   **sensor_settings.SETTING_KEYS}  # the last: SPEC §10's sensor and latch
+PARAMETER_KEYS.update(slow_scan.SETTING_KEYS)  # SPEC §13: jab, sweep and the arm's motion
 _CARRIER_FIELDS = {"slot_count": "slot_count", "slot_pitch": "pitch",
                    "first_slot_z": "first_slot_z", "wafer_thickness": "wafer_thickness",
                    "wafer_diameter": "wafer_diameter"}
@@ -107,6 +108,12 @@ def apply_parameters(layout, parameters):
     a scan (the error names the parameter's line)."""
     v = parameters.values
     scan = replace(layout.scan, **{k: v[k] for k in schema.SCAN_KEYS if k in v})
+    for key in slow_scan.SETTING_KEYS:  # SPEC §13
+        if key in v:
+            problem = slow_scan.setting_problem(key, v[key])
+            if problem:
+                raise parameters.error(key, problem)
+            scan = replace(scan, **{key: v[key]})
     mapping = replace(layout.mapping, **{k: v[k] for k in schema.MAPPING_KEYS if k in v})
     chosen = v.get("carrier", layout.carrier)
     names = [c.name for c in layout.carriers]
@@ -184,6 +191,9 @@ def used_parameters(layout):
     # SPEC §10's settings only where they differ from the ideal sensor: a scan without them
     # lists what it always did.
     values.update(sensor_settings.given_values(layout))
+    # SPEC §13's settings only where they differ from their defaults: a scan without them
+    # lists what it always did.
+    values.update(slow_scan.given_values(scan))
     return values
 
 
@@ -243,6 +253,8 @@ RESULT_COLUMNS = ("slot", "slot_z", "wafer", "in", "out", "diff", "state")
 # SPEC §10's raw data, as load ports report it: added when the scan uses a real sensor (a spot,
 # thresholds or latching in motion), so that the paper's results.txt stays as it was.
 READING_COLUMNS = ("thickness", "bottom")
+# SPEC §13: added when a slow scan jabbed or swept its pockets (mm from the start pose; degrees).
+POCKET_COLUMNS = ("front", "sweep_first", "sweep_last")
 
 
 def _cell(text):
@@ -275,6 +287,11 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
     if result is not None and not error:
         # One line each: why part of the result cannot be known (SPEC §3).
         header += [("warning", " ".join(w.split())) for w in result.warnings]
+    pockets = {p.slot: p for p in result.pockets} if result is not None and not error else {}
+    if pockets:  # SPEC §13: the engineer's trade-off, simulated seconds of either mode
+        durations = result.durations
+        header += [("duration_fast", f"{durations['fast']:.3f}"),
+                   ("duration_slow", f"{durations['slow']:.3f}")]
     if result is not None and not error:
         header.append(("engine", result.engine))
         header += [(k, _text(v)) for k, v in used_parameters(result.layout).items()]
@@ -284,15 +301,26 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
 
         readings = slot_readings(result) if sensor_settings.given_values(result.layout) \
             else None
-        columns = RESULT_COLUMNS + (READING_COLUMNS if readings else ())
+        columns = RESULT_COLUMNS + (READING_COLUMNS if readings else ()) \
+            + (POCKET_COLUMNS if pockets else ())
         lines += ["", "\t".join(columns)]
         for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
             names = _cell(",".join(wafers)) or "-"
             cells = [str(slot), _mm(seat), names, _mm(z_in), _mm(z_out), _mm(diff), state]
             if readings:
                 cells += [_mm(x) for x in readings[slot - 1]]
+            if pockets:
+                cells += _pocket_cells(pockets.get(slot))
             lines.append("\t".join(cells))
     return "\n".join(lines) + "\n"
+
+
+def _pocket_cells(probe):
+    """results.txt's front, sweep_first, sweep_last of a pocket (empty where none)."""
+    if probe is None:
+        return ("", "", "")
+    sweep = probe.sweep or (None, None)
+    return (_mm(probe.front), *("" if a is None else f"{a:.4f}" for a in sweep))
 
 
 def _mode_for(path):

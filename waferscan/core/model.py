@@ -113,6 +113,17 @@ class ScanParameters:
     latch: str = "step"
     acceleration: float = math.inf
     sample_period: float = 0.0
+    # SPEC §13, slow scanning's arm motions at each pocket (core/slow_scan.py): the jab's reach
+    # (mm, 0: none), the sweep's half-angle (deg, 0: none), the wrist axis's distance behind the
+    # beam's midpoint (mm; the bundled robot's 260), and the arm's and the wrist's speed and
+    # acceleration (mm/s, mm/s², deg/s, deg/s²) for the scan's simulated duration.
+    jab: float = 0.0
+    sweep: float = 0.0
+    sweep_radius: float = 260.0
+    arm_speed: float = 250.0
+    arm_acceleration: float = 1000.0
+    wrist_speed: float = 90.0
+    wrist_acceleration: float = 360.0
 
     @property
     def exact(self):

@@ -24,7 +24,43 @@ STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (2
 
 def result_dict(result):
     """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine, warnings.
-    A slot's ``state`` is its code character's value: 0-6, or "?" when unscanned."""
+    A slot's ``state`` is its code character's value: 0-6, or "?" when unscanned. SPEC §13:
+    a slot's ``front`` (mm) and ``sweep`` ([first, last] deg), null without a jab or sweep;
+    ``durations``: simulated seconds of a fast and a slow scan."""
+    data = _result_dict(result)
+    pockets = {p.slot: p for p in result.pockets}
+    for slot in data["slots"]:
+        probe = pockets.get(slot["slot"])
+        slot["front"] = None if probe is None else probe.front
+        slot["sweep"] = None if probe is None or probe.sweep is None else list(probe.sweep)
+    data["durations"] = result.durations
+    return data
+
+
+def format_pockets(result):
+    """A slow scan's jab and sweep per pocket as a text table (SPEC §13)."""
+    lines = [f"{'slot':>4}  {'jab Z':>8}  {'front':>7}  {'seated':>7}  {'sweep first':>11}  "
+             f"{'last':>8}  {'shift':>7}",
+             "(mm from the start pose; degrees, counter-clockwise seen from above; shift: mm "
+             "to the right)"]
+    for p in result.pockets:
+        sweep = p.sweep or (None, None)
+        cells = [_mm(p.front) or "-", _mm(p.expected_front) or "-",
+                 *(f"{a:+.3f}" if a is not None else "-" for a in sweep),
+                 "-" if p.shift is None else f"{p.shift:+.3f}"]
+        lines.append(f"{p.slot:>4}  {p.z:8.3f}  {cells[0]:>7}  {cells[1]:>7}  {cells[2]:>11}  "
+                     f"{cells[3]:>8}  {cells[4]:>7}")
+    return "\n".join(lines)
+
+
+def format_durations(result):
+    """One line: the simulated duration of a fast and of a slow scan (SPEC §13)."""
+    d = result.durations
+    return (f"simulated duration: fast {d['fast']:.2f} s, slow {d['slow']:.2f} s "
+            f"(this scan: {result.layout.scan.mode})")
+
+
+def _result_dict(result):
     from .sensing import scan_edges, slot_readings
 
     readings = slot_readings(result)

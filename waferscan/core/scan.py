@@ -15,9 +15,11 @@ import math
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
+from . import slow_scan
 from .engines import ExactHits, reachable_wafers, run_engine
 from .geometry import wafer_bounds
-from .mapping import LIMIT_SLACK, STATE_NAMES, SlotPlan, map_slots, unscanned_slots
+from .mapping import (LIMIT_SLACK, POSITION_ERROR, STATE_NAMES, SlotPlan, map_slots,
+                      unscanned_slots)
 from .model import DOWN, SLOW, UP, UPDOWN
 
 
@@ -74,6 +76,17 @@ class ScanResult:
     # order latched, and the blocked fraction along the scan (a SignalTrace).
     edges: tuple = ()
     signal: object = None
+    # SPEC §13, a slow scan with a jab or a sweep: each scanned pocket's PocketProbe
+    # (core/slow_scan.py), in slot order; empty otherwise.
+    pockets: tuple = ()
+
+    @property
+    def durations(self):
+        """Simulated seconds of a fast and of a slow scan of this layout (SPEC §13)."""
+        from . import slow_scan
+
+        return {"fast": slow_scan.fast_duration(self.layout.scan),
+                "slow": slow_scan.slow_duration(self.layout.scan, self.plan, self.pockets)}
 
     @property
     def code(self):
@@ -274,11 +287,12 @@ def _run_wafers(run_spans, wafers, wafer_spans):
     return [tuple(n) for n in names]
 
 
-def scan_layout(layout, engine="analytic", progress=None, stepper=None):
+def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None):
     """Scan the layout with the named engine and map the scanned carrier's slots.
 
     ``stepper(layout, progress)``, when given, computes the hits in place of the core engine of
-    that name (the CAD layer's ``document`` and ``brep`` engines come in this way)."""
+    that name (the CAD layer's ``document`` and ``brep`` engines come in this way); ``measure``
+    likewise measures a slow scan's jab and sweep (``slow_scan.probe_pocket``)."""
     if layout.spot is not None or layout.scan.latch != "step":
         from .sensing import ideal_sensor, sensed_scan
 
@@ -287,7 +301,8 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None):
     scan = layout.scan
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)
-    hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(layout, progress)
+    hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(
+        slow_scan.stepping_layout(layout), progress)  # with a jab, the fork in (SPEC §13)
     window = _window(plan) if scan.mode == SLOW else None
     if isinstance(hits, ExactHits):
         run_spans, wafer_spans = _exact_intervals(hits, window)
@@ -303,7 +318,21 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None):
     # grid, the beam is sampled a step apart.
     scanned = (scan.start_z, scan.final_z)
     unscanned = unscanned_slots(plan, scanned)
+    # SPEC §13: a slow scan's jab and sweep at each scanned pocket (core/slow_scan.py).
+    pockets, swept_off, probe_warnings = (), (), []
+    if slow_scan.probes_pockets(scan):
+        pockets = slow_scan.probe_pockets(
+            layout, plan, [s for s in range(1, plan.slot_count + 1) if s not in unscanned],
+            measure)
+        jabbed, swept_off, probe_warnings = slow_scan.judge(layout, plan, pockets)
+        if scan.jab > 0.0:  # the robot's own sensor judges protrusion (§13)
+            flagged = jabbed
     slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    slot_map = slow_scan.with_position_errors(slot_map, swept_off)
+    # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
+    probe_warnings += [why for slot, why in sorted(dict(swept_off).items())
+                       if slot_map.slots[slot - 1].state == POSITION_ERROR]
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
-                             scanned_range(scan, window))
-    return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings)
+                             scanned_range(scan, window)) + tuple(probe_warnings)
+    return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings,
+                      pockets)

@@ -19,7 +19,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from . import schema, sensor_settings, validation
+from . import schema, sensor_settings, slow_scan, validation
 from .errors import InputError
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
@@ -359,7 +359,8 @@ def _beam_and_scan(reader, data):
                                               "beam there)")
     sensor = reader.table(data["sensor"], "sensor", _SENSOR_KEYS)
     scan_data = reader.table(data.get("scan", {}), "scan", set(schema.SCAN_KEYS) | {"carrier"}
-                             | set(sensor_settings.MOTION_KEYS))
+                             | set(sensor_settings.MOTION_KEYS)
+                             | set(slow_scan.SETTING_KEYS))  # the last: SPEC §13's jab, sweep
 
     emitter = sensor.get("emitter")
     if not isinstance(emitter, list) or len(emitter) not in (2, 3):
@@ -383,6 +384,14 @@ def _beam_and_scan(reader, data):
     if values["final_z"] is None:
         raise reader.error("missing key 'final_z'", "scan")
     values["start_z"] = start_z
+    # SPEC §13: slow scanning's jab, sweep and arm motion (core/slow_scan.py).
+    for key, check in slow_scan.SETTING_KEYS.items():
+        value = reader.value(scan_data, "scan", key, check)
+        if value is not None:
+            problem = slow_scan.setting_problem(key, value)
+            if problem:
+                raise reader.error(problem, "scan", key=key)
+            values[key] = value
     scan = ScanParameters(**{k: v for k, v in values.items() if v is not None})
     try:
         schema.check_scan_range(scan.start_z, scan.final_z, scan.z_step)

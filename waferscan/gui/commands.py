@@ -235,6 +235,11 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
     _session["animation"] = animation
     # The animation showed this result: its dialogs show it too.
     on_completed = (lambda: show_results_dialogs(doc, result=result)) if show_results else None
+    if result.pockets:  # SPEC §13: then the jabs and sweeps, pocket by pocket
+        from .pocket_animation import then_pockets
+
+        on_completed = then_pockets(doc, result, on_completed, _show_task_panel if panel
+                                    else None, _session)
     if panel:
         def replay(seconds):
             play_scan(doc, result, show_results=show_results, duration_s=seconds)

@@ -16,6 +16,20 @@ from ..core.report import STATE_COLOURS
 from .side_view import SideView
 
 COLUMNS = ("Slot", "Slot Z [mm]", "Wafer", "IN [mm]", "OUT [mm]", "Diff [mm]", "State")
+# SPEC §13: a slow scan's jab and sweep per slot, shown when its pockets were probed.
+POCKET_COLUMNS = ("Front [mm]", "Sweep first [°]", "Sweep last [°]")
+
+
+def columns(result):
+    """The table's columns for this result: COLUMNS, and POCKET_COLUMNS after a jab or sweep."""
+    return COLUMNS + (POCKET_COLUMNS if result.pockets else ())
+
+
+def _pocket_cells(result, slot):
+    probe = next((p for p in result.pockets if p.slot == slot), None)
+    sweep = (None, None) if probe is None or probe.sweep is None else probe.sweep
+    return [_mm(None if probe is None else probe.front),
+            *("" if a is None else f"{a:+.3f}" for a in sweep)]
 SHEET = "ScanResults"
 
 
@@ -29,7 +43,8 @@ def table_cells(result):
     rows = []
     for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
         rows.append(([str(slot), f"{seat:.2f}", ", ".join(wafers) or "-", _mm(z_in), _mm(z_out),
-                      _mm(diff), state], codes[slot]))
+                      _mm(diff), state] + (_pocket_cells(result, slot) if result.pockets else []),
+                     codes[slot]))
     return rows
 
 
@@ -37,7 +52,7 @@ def store_in_document(doc, result):
     """Keep the results in the document as a Spreadsheet, so they survive save and reload."""
     sheet = doc.getObject(SHEET) or doc.addObject("Spreadsheet::Sheet", SHEET)
     sheet.clearAll()
-    for column, title in enumerate(COLUMNS):
+    for column, title in enumerate(columns(result)):
         sheet.set(f"{chr(65 + column)}1", title)
     rows = table_cells(result)
     for row, (cells, _) in enumerate(rows, start=2):
@@ -71,8 +86,8 @@ class ResultsTable(QtGui.QDialog):
         super().__init__(parent or Gui.getMainWindow())
         self.setWindowTitle("WaferScan results")
         self.result, self.doc = result, doc
-        self.table = QtGui.QTableWidget(0, len(COLUMNS), self)
-        self.table.setHorizontalHeaderLabels(list(COLUMNS))
+        self.table = QtGui.QTableWidget(0, len(columns(result)), self)
+        self.table.setHorizontalHeaderLabels(list(columns(result)))
         self.table.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
         self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
         for cells, code in table_cells(result):
@@ -82,7 +97,7 @@ class ResultsTable(QtGui.QDialog):
                 item = QtGui.QTableWidgetItem(text)
                 if column == 6:
                     item.setBackground(QtGui.QColor(*STATE_COLOURS[code]))
-                if column in (0, 1, 3, 4, 5):
+                if column in (0, 1, 3, 4, 5) or column >= len(COLUMNS):
                     item.setTextAlignment(QtCore.Qt.AlignRight | QtCore.Qt.AlignVCenter)
                 self.table.setItem(row, column, item)
         self.table.resizeColumnsToContents()
@@ -114,7 +129,7 @@ class ResultsTable(QtGui.QDialog):
     def export_csv(self, path):
         with open(path, "w", newline="", encoding="utf-8") as handle:
             writer = csv.writer(handle)
-            writer.writerow(COLUMNS)
+            writer.writerow(columns(self.result))
             writer.writerows(self.rows())
 
     def _export(self):

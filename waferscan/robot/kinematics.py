@@ -181,3 +181,26 @@ class WaferRobot:
                 raise ValueError(f"the {name} joint would be at {value:.3f}, beyond its limits "
                                  f"{low:.3f} to {high:.3f}")
         return joints
+
+    # --- slow scanning's arm motions (SPEC §13) ----------------------------------------------
+
+    def fork_heading(self, joints, base=((0.0, 0.0, 0.0), 0.0)):
+        """The fork's heading in the world: its +X axis (the way its tines point), a unit
+        vector; horizontal for this robot, whose joints all turn about Z."""
+        rotation, _ = self._world(base, *self.frame_placement(joints, FORK))
+        return tuple(float(v) for v in rotation[:, 0])
+
+    def wrist_axis(self, joints, base=((0.0, 0.0, 0.0), 0.0)):
+        """(x, y) mm in the world of the wrist joint's (vertical) axis: the fork's origin."""
+        _, origin = self._world(base, *self.frame_placement(joints, FORK))
+        return float(origin[0]), float(origin[1])
+
+    def straight_advance(self, joints, base, advance):
+        """Joint values that move the fork ``advance`` mm along its heading in a straight line,
+        its heading, height and elbow branch kept: the inverse kinematics of the jab. The beam's
+        emitter is moved and the pose solved again (teach_start_pose's closed form); ValueError
+        when out of reach or beyond a joint's limits."""
+        emitter, direction, _ = self.beam(joints, base)
+        heading = self.fork_heading(joints, base)
+        target = tuple(e + advance * h for e, h in zip(emitter, heading))
+        return self.teach_start_pose(base, target, direction)  # the lift: the same height

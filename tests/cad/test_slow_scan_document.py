@@ -1,0 +1,190 @@
+"""Slow scanning's jab and sweep through the FreeCAD document (SPEC §13): the robot's joints move
+(inverse kinematics for the straight advance, the wrist for the sweep), the beam read back from
+the document is the analytic one, and the document engine agrees with the closed forms."""
+
+import json
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import FreeCAD as App
+import pytest
+
+from waferscan.cad.builder import build_document
+from waferscan.cad.document_scan import mover_for, read_beam, scan_document
+from waferscan.cad.pocket_probe import RobotArm, ScannerArm
+from waferscan.cad.reader import DocumentScene, read_layout
+from waferscan.core import slow_scan
+from waferscan.core.scan import scan_layout
+from waferscan.core.scenario import read_scenario
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE = ROOT / "resources" / "examples" / "slow_jab.toml"
+PAPER = ROOT / "resources" / "examples" / "paper.toml"
+LAYOUT = read_scenario(EXAMPLE)
+
+
+@pytest.fixture
+def doc():
+    made = build_document(LAYOUT, "SlowScanTest")
+    name = made.Name
+    yield made
+    if name in App.listDocuments():
+        App.closeDocument(name)
+
+
+def _robot_joints(doc):
+    part = next(o for o in doc.Objects if "StartJoints" in o.PropertiesList)
+    links = {o.RobotLink: App.Placement(o.Placement) for o in part.Group
+             if "RobotLink" in o.PropertiesList}
+    return links
+
+
+def test_settings_are_stored_in_the_document_and_read_back(doc):
+    settings = next(o for o in doc.Objects if "Jab" in o.PropertiesList)
+    assert settings.Jab.Value == pytest.approx(26.6) and settings.Sweep.Value == pytest.approx(40)
+    settings.Sweep = 12.5
+    layout = read_layout(doc)
+    assert (layout.scan.jab, layout.scan.sweep, layout.scan.sweep_radius) == (26.6, 12.5, 260.0)
+
+
+def test_the_jab_and_sweep_move_the_robots_joints_and_the_beam_follows_the_closed_form(doc):
+    scene = DocumentScene.of(doc)
+    layout = read_layout(doc, scene)
+    arm = RobotArm(mover_for(scene, layout), layout)
+    scanner = scene.scanner()
+    start = _robot_joints(doc)
+    z = 364.29
+    for advance, turn in ((0.0, 0.0), (10.0, 0.0), (26.6, 0.0), (26.6, 33.0), (5.0, -20.0)):
+        arm.move(z, advance, turn)
+        beam = read_beam(scanner)
+        emitter, expected = slow_scan.beam_at(layout, z, advance, turn)
+        assert beam.emitter == pytest.approx(emitter, abs=1e-9)
+        assert beam.direction == pytest.approx(expected.direction, abs=1e-12)
+    # The straight advance is made by the arm's joints: the shoulder, elbow and wrist turned.
+    arm.move(z, 26.6, 0.0)
+    joints = arm.joints(z, 26.6, 0.0)
+    start_joints = arm.joints(z)
+    for name in ("shoulder", "elbow", "wrist"):
+        assert abs(joints[name] - start_joints[name]) > 0.5
+    moved = _robot_joints(doc)
+    assert (moved["forearm"].Base - start["forearm"].Base).Length > 1.0
+    arm.restore()
+    back = _robot_joints(doc)
+    assert all((back[k].Base - start[k].Base).Length < 1e-9 for k in start)
+
+
+def test_document_engine_agrees_with_the_closed_forms(doc):
+    analytic = scan_document(doc, "analytic")
+    document = scan_document(doc, "document")
+    assert document.code == analytic.code == "1151221601220001010000010"
+    assert [(r.z_in, r.z_out) for r in document.runs] == \
+        [(r.z_in, r.z_out) for r in analytic.runs]
+    assert len(document.pockets) == 25
+    for mine, exact in zip(document.pockets, analytic.pockets):
+        assert (mine.front is None) == (exact.front is None)
+        if exact.front is not None:
+            assert mine.front == pytest.approx(exact.front, abs=1e-7)
+        assert (mine.sweep is None) == (exact.sweep is None)
+        if exact.sweep is not None:
+            assert mine.sweep == pytest.approx(exact.sweep, abs=1e-7)
+    # The protruding wafer (slot 8, 5 mm out) is met 5 mm earlier by the robot's own sensor.
+    assert document.pockets[7].front == pytest.approx(document.pockets[0].front - 5.0, abs=1e-7)
+    assert document.pockets[2].shift == pytest.approx(3.0, abs=1e-3)
+
+
+def test_a_scanner_without_a_robot_jabs_and_sweeps_by_its_placement():
+    layout = replace(LAYOUT, robot=None)
+    made = build_document(layout, "SlowScanNoRobot")
+    try:
+        scene = DocumentScene.of(made)
+        assert not scene.robots
+        read = read_layout(made, scene)
+        arm = ScannerArm(mover_for(scene, read), read)
+        arm.move(334.29, 12.0, -7.5)
+        emitter, expected = slow_scan.beam_at(read, 334.29, 12.0, -7.5)
+        beam = read_beam(scene.scanner())
+        assert beam.emitter == pytest.approx(emitter, abs=1e-9)
+        assert beam.direction == pytest.approx(expected.direction, abs=1e-12)
+        arm.restore()
+        document = scan_document(made, "document")
+        analytic = scan_layout(layout)
+        assert document.code == analytic.code
+        for mine, exact in zip(document.pockets, analytic.pockets):
+            assert mine.front == pytest.approx(exact.front, abs=1e-7) if exact.front else \
+                mine.front == exact.front
+            assert mine.sweep == pytest.approx(exact.sweep, abs=1e-7) if exact.sweep else \
+                mine.sweep == exact.sweep
+    finally:
+        App.closeDocument(made.Name)
+
+
+def test_a_robot_whose_wrist_is_not_at_sweep_radius_is_refused(doc):
+    settings = next(o for o in doc.Objects if "SweepRadius" in o.PropertiesList)
+    settings.SweepRadius = 250.0
+    with pytest.raises(Exception, match="sweep_radius = 260"):
+        scan_document(doc, "document")
+
+
+def waferscan(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=cwd,
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_cli_slow_scan_of_the_paper_with_jab_and_sweep_reports_front_and_sweep(tmp_path):
+    params = tmp_path / "parameters.txt"
+    params.write_text("jab = 5\nsweep = 40\n")
+    out = tmp_path / "results.txt"
+    done = waferscan("scan", PAPER, "--mode", "slow", "--params", params, "--json",
+                     "--out", out)
+    assert done.returncode == 0, done.stderr
+    data = json.loads(done.stdout)
+    loaded = [s for s in data["slots"] if s["state"] == 1]
+    # The paper's start pose already has the beam 16.6 mm into the wafers: front 0, and said.
+    assert all(s["front"] == 0.0 for s in loaded)
+    assert all(s["sweep"][0] == pytest.approx(-s["sweep"][1], abs=1e-9) for s in loaded)
+    assert data["slots"][2]["front"] is None and data["slots"][2]["sweep"] is None
+    assert "cannot tell a protruding wafer" in done.stderr
+    assert data["durations"]["slow"] > data["durations"]["fast"] > 0
+    text = out.read_text()
+    assert "\njab = 5.0\nsweep = 40.0\n" in text
+    head = [line for line in text.splitlines() if line.startswith("slot\t")][0]
+    assert head.split("\t")[-3:] == ["front", "sweep_first", "sweep_last"]
+    first = [line for line in text.splitlines() if line.startswith("1\t")][0].split("\t")
+    assert first[-3] == "0.000" and float(first[-2]) == pytest.approx(-float(first[-1]))
+
+
+def test_cli_example_prints_pockets_and_durations():
+    done = waferscan("scan", EXAMPLE)
+    assert done.returncode == 0, done.stderr
+    assert "code 1151221601220001010000010" in done.stdout
+    row = [line.split() for line in done.stdout.splitlines() if line.split()[:1] == ["8"]][-1]
+    assert row[2:4] == ["5.000", "10.000"]  # front, and a seated wafer's
+    assert "simulated duration: fast 2.70 s" in done.stdout
+    assert "slot 3: the sweep" in done.stderr and "3.000 mm to the right" in done.stderr
+
+
+def test_bad_slow_settings_name_file_line_and_key(tmp_path):
+    scenario = tmp_path / "bad.toml"
+    scenario.write_text(EXAMPLE.read_text().replace("sweep = 40.0", "sweep = 120.0"))
+    done = waferscan("scan", scenario)
+    line = EXAMPLE.read_text().splitlines().index(
+        next(s for s in EXAMPLE.read_text().splitlines() if s.startswith("sweep ="))) + 1
+    assert done.returncode == 2 and done.stdout == ""
+    assert done.stderr.startswith(f"waferscan: error: {scenario}:{line}: [scan] sweep: must be "
+                                  f"at most 90"), done.stderr
+    params = tmp_path / "parameters.txt"
+    params.write_text("# slow\njab = -2\n")
+    done = waferscan("scan", EXAMPLE, "--params", params)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert done.stderr == f"waferscan: error: {params}:2: jab: must not be negative, got ' -2'\n"
+
+
+def test_a_jab_beyond_the_arms_reach_is_refused_naming_the_joint(doc):
+    from waferscan.core.errors import InputError
+
+    settings = next(o for o in doc.Objects if "Jab" in o.PropertiesList)
+    settings.Jab = 600.0
+    with pytest.raises(InputError, match=r"the jab of 600 mm at .*(arm reaches|beyond its limits)"):
+        scan_document(doc, "document")

@@ -1,0 +1,69 @@
+# Run by FreeCAD's GUI (tests/gui/test_gui_pockets.py): a slow scan with jabs and sweeps, opened
+# and scanned with the workbench's commands. After the Z steps the pocket animation starts; the
+# probe holds it at the end of slot 8's jab and a quarter into slot 3's sweep, reads the task
+# panel, the beam read back from the document and the robot's links, takes a screenshot of the
+# jab, then lets the animation end and reads the results dialogs' code.
+import os
+import sys
+
+sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
+from probe_steps import finish, result, start, wait_for, window_shot  # noqa: E402
+
+import FreeCADGui as Gui  # noqa: E402
+
+
+def begin():
+    from waferscan.gui import commands
+    Gui.activateWorkbench("WaferScanWorkbench")
+    doc = commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
+    animation = commands.run_scan(doc, steps_per_frame=500)
+    wait_for("the pocket animation", lambda: animation.ended
+             and commands._session.get("pockets") is not None, pockets)
+
+
+def _read(pockets, index):
+    from waferscan.cad.document_scan import read_beam
+    from waferscan.cad.reader import DocumentScene
+    from waferscan.gui import commands
+
+    pockets.show(index)
+    pockets.moved.emit(index)
+    Gui.updateGui()
+    panel = commands._session["panel"]
+    beam = read_beam(DocumentScene.of(pockets.doc).scanner())
+    links = {o.RobotLink: list(o.Placement.Base) for o in pockets.doc.Objects
+             if "RobotLink" in o.PropertiesList}
+    return {"frame": list(pockets.frames[index]), "pocket": panel.pocket.text(),
+            "phase": panel.phase.text(), "arm": panel.amount.text(), "beam": panel.beam.text(),
+            "found": panel.found.text(), "emitter": list(beam.emitter),
+            "direction": list(beam.direction), "links": links}
+
+
+def pockets():
+    from waferscan.gui import commands
+    from waferscan.gui.pocket_animation import frame_of
+    animation = commands._session["pockets"]
+    animation.timer.stop()  # held: frames shown one by one below
+    result["panel_title"] = commands._session["panel"].form.windowTitle()
+    result["start"] = _read(animation, 0)
+    result["jab"] = _read(animation, frame_of(animation, 8, "jab", 1.0))
+    window_shot("gui-jab.png")
+    result["sweep"] = _read(animation, frame_of(animation, 3, "sweep", 0.25))
+    animation.k = len(animation.frames) - 1
+    animation.play()
+    wait_for("the results dialogs", lambda: animation.ended
+             and len(commands._session["dialogs"]) == 2, dialogs)
+
+
+def dialogs():
+    from waferscan.gui import commands
+    result["panel_status"] = commands._session["panel"].status.text()
+    table, code = commands._session["dialogs"]
+    result["code"] = code.code_label.text()
+    result["headers"] = [table.table.horizontalHeaderItem(c).text()
+                         for c in range(table.table.columnCount())]
+    result["rows"] = table.rows()
+    finish()
+
+
+start(begin)

@@ -1,0 +1,238 @@
+"""A slow scan's jabs and sweeps animated (SPEC §13): after the Z steps, pocket by pocket, the
+arm jabs in, the wrist sweeps -A .. +A and the arm draws back, moved in the document as the
+``document`` engine moves it (``cad.pocket_probe``: inverse kinematics for the straight advance,
+the wrist joint for the sweep). Its task panel shows the pocket, the phase and the advance or the
+wrist angle, and what the beam meets. The beam's state at each frame is the exact test on the
+layout's wafers (the analytic answer the results give)."""
+
+from __future__ import annotations
+
+import math
+
+import FreeCAD as App
+from PySide import QtCore, QtGui
+
+from ..addon import icon_path
+from ..cad.document_scan import mover_for
+from ..cad.pocket_probe import arm_for
+from ..cad.reader import DocumentScene
+from ..core import slow_scan
+from ..core.geometry import beam_hits_wafer
+from .qt import ClosableTaskPanel
+
+BEAM_CLEAR, BEAM_BLOCKED = (0.1, 0.6, 0.1), (0.9, 0.1, 0.1)
+JAB_FRAMES, SWEEP_FRAMES = 16, 40  # frames of the jab in (and as many out) and of the sweep
+FRAME_MS = 10
+
+
+def pocket_frames(result):
+    """The animation's frames: (slot, phase, z, advance mm, wrist turn deg) for each probed
+    pocket: the jab in, the sweep 0 -> -A -> +A -> 0 at the deepest point, the jab out."""
+    scan = result.layout.scan
+    frames = []
+    for probe in result.pockets:
+        z, depth, amplitude = probe.z, probe.depth, scan.sweep
+        if depth > 0.0:
+            frames += [(probe.slot, "jab", z, depth * k / JAB_FRAMES, 0.0)
+                       for k in range(JAB_FRAMES + 1)]
+        if amplitude > 0.0:
+            quarter = SWEEP_FRAMES // 4
+            turns = ([-amplitude * k / quarter for k in range(quarter + 1)]
+                     + [-amplitude + 2 * amplitude * k / (2 * quarter)
+                        for k in range(1, 2 * quarter + 1)]
+                     + [amplitude - amplitude * k / quarter for k in range(1, quarter + 1)])
+            frames += [(probe.slot, "sweep", z, depth, a) for a in turns]
+        if depth > 0.0:
+            frames += [(probe.slot, "back", z, depth * (1 - k / JAB_FRAMES), 0.0)
+                       for k in range(1, JAB_FRAMES + 1)]
+    return frames
+
+
+def describe(frame):
+    """What the panel says of a frame: the pocket, the phase and the advance or angle."""
+    slot, phase, z, advance, turn = frame
+    if phase == "sweep":
+        return (f"pocket {slot}", "sweep", f"wrist {turn:+.2f}°")
+    return (f"pocket {slot}", "jab in" if phase == "jab" else "jab out", f"advance {advance:.2f} mm")
+
+
+class PocketAnimation(QtCore.QObject):
+    """Plays ``pocket_frames(result)`` on ``doc``; ``moved(index)`` at every frame, ``finished``
+    at the end or on ``stop()`` (the arm then back in its start pose)."""
+
+    moved = QtCore.Signal(int)
+    finished = QtCore.Signal()
+
+    def __init__(self, doc, result):
+        super().__init__()
+        self.doc, self.result = doc, result
+        layout = result.layout
+        self.layout = layout
+        scene = DocumentScene.of(doc)
+        self.arm = arm_for(mover_for(scene, layout), layout)
+        self.beam_obj = scene.scanner().obj
+        self.frames = pocket_frames(result)
+        self.near = {}
+        self.k = 0
+        self.blocked = False
+        self.ended = False
+        self.timer = QtCore.QTimer(self)
+        self.timer.timeout.connect(self._tick)
+        # As in the scan's animation: the carriers see-through while the arm is in them.
+        self._restore_view = []
+        for instance in scene.carriers:
+            view = instance.obj.ViewObject
+            if view is not None and "Transparency" in view.PropertiesList:
+                self._restore_view.append((view, view.Transparency))
+                view.Transparency = 70
+
+    def play(self):
+        if not self.ended:
+            self.timer.start(FRAME_MS)
+
+    def stop(self):
+        if self.ended:
+            return
+        self.ended = True
+        self.timer.stop()
+        try:
+            self.arm.restore()
+            self._colour(BEAM_CLEAR)
+            for view, value in self._restore_view:
+                view.Transparency = value
+        except Exception as exc:  # the document changed under the animation
+            App.Console.PrintError(f"WaferScan: pocket animation: {exc}\n")
+        self.finished.emit()
+
+    def show(self, index):
+        """Move the arm to a frame and colour the beam by what it meets there."""
+        slot, phase, z, advance, turn = frame = self.frames[index]
+        self.arm.move(z, advance, turn)
+        if z not in self.near:
+            self.near[z] = slow_scan.wafers_near(self.layout, z)
+        emitter, beam = slow_scan.beam_at(self.layout, z, advance, turn)
+        self.blocked = any(beam_hits_wafer(emitter, beam, w) for w in self.near[z])
+        self._colour(BEAM_BLOCKED if self.blocked else BEAM_CLEAR)
+        return frame
+
+    def _colour(self, colour):
+        view = self.beam_obj.ViewObject
+        if view is not None:
+            view.ShapeColor = colour
+            view.LineColor = colour
+
+    def _tick(self):
+        if self.k >= len(self.frames):
+            self.stop()
+            return
+        try:
+            self.show(self.k)
+        except Exception as exc:
+            App.Console.PrintError(f"WaferScan: pocket animation stopped: {exc}\n")
+            self.stop()
+            return
+        self.moved.emit(self.k)
+        self.k += 1
+
+
+class PocketTaskPanel(ClosableTaskPanel):
+    """The pocket animation's panel: pocket, phase, advance or angle, the beam; Stop."""
+
+    def __init__(self, animation, on_completed=None):
+        self.animation = animation
+        self.on_completed = on_completed
+        scan = animation.layout.scan
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("WaferScan jabs and sweeps")
+        self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_RunScan.svg")))
+        about = QtGui.QLabel(f"Slow scan, pocket by pocket: jab {scan.jab:g} mm, sweep "
+                             f"±{scan.sweep:g}°, {len(animation.result.pockets)} pockets")
+        about.setWordWrap(True)
+        self.pocket, self.phase, self.amount = QtGui.QLabel(""), QtGui.QLabel(""), QtGui.QLabel("")
+        self.beam = QtGui.QLabel("beam clear")
+        self.found = QtGui.QLabel("")
+        self.found.setWordWrap(True)
+        self.progress = QtGui.QProgressBar()
+        self.progress.setRange(0, max(1, len(animation.frames) - 1))
+        self.stop_button = QtGui.QPushButton("Stop")
+        self.stop_button.setToolTip("End the animation and put the arm back in its start pose")
+        form = QtGui.QFormLayout()
+        form.addRow("Pocket", self.pocket)
+        form.addRow("Phase", self.phase)
+        form.addRow("Arm", self.amount)
+        form.addRow("Beam", self.beam)
+        form.addRow("Found", self.found)
+        self.status = self.leaf = QtGui.QLabel("")
+        self.status.setWordWrap(True)
+        box = QtGui.QVBoxLayout(self.form)
+        box.addWidget(about)
+        box.addLayout(form)
+        box.addWidget(self.progress)
+        box.addWidget(self.stop_button)
+        box.addWidget(self.status)
+        box.addStretch(1)
+        self.stop_button.clicked.connect(animation.stop)
+        animation.moved.connect(self._moved)
+        animation.finished.connect(self._finished)
+        self.follow_document(animation.doc)
+
+    def _moved(self, k):
+        if not self.is_open():
+            return
+        frame = self.animation.frames[k]
+        pocket, phase, amount = describe(frame)
+        self.pocket.setText(pocket)
+        self.phase.setText(phase)
+        self.amount.setText(amount)
+        self.progress.setValue(k)
+        blocked = self.animation.blocked
+        self.beam.setText("blocked" if blocked else "beam clear")
+        self.beam.setStyleSheet("color: #c01010; font-weight: bold;" if blocked else "")
+        probe = next(p for p in self.animation.result.pockets if p.slot == frame[0])
+        front = "none" if probe.front is None else f"{probe.front:.3f} mm"
+        sweep = "none" if probe.sweep is None else \
+            f"{probe.sweep[0]:+.3f}° to {probe.sweep[1]:+.3f}°"
+        self.found.setText(f"front {front}, sweep {sweep}")
+
+    def _finished(self):
+        if not self.is_open():
+            return
+        self.stop_button.setEnabled(False)
+        done = self.animation.k >= len(self.animation.frames)
+        self.status.setText(f"Done. Slot code <b>{self.animation.result.code}</b>" if done
+                            else "Stopped; the arm is back in its start pose")
+        if done and self.on_completed is not None:
+            self.on_completed()
+
+    def shut_down(self):
+        self.animation.stop()
+
+
+def play_pockets(doc, result, on_completed=None, show_panel=None):
+    """Animate a slow scan's jabs and sweeps; ``show_panel(panel)`` opens its task panel (the
+    commands' way, closing the scan's). Returns the animation, playing."""
+    animation = PocketAnimation(doc, result)
+    if show_panel is not None:
+        show_panel(PocketTaskPanel(animation, on_completed))
+    elif on_completed is not None:
+        animation.finished.connect(lambda: animation.k >= len(animation.frames)
+                                   and on_completed())
+    animation.play()
+    return animation
+
+
+def frame_of(animation, slot, phase, fraction=1.0):
+    """Index of the frame of ``slot``'s ``phase`` at ``fraction`` of it (probes, screenshots)."""
+    indices = [i for i, f in enumerate(animation.frames) if f[0] == slot and f[1] == phase]
+    return indices[min(len(indices) - 1, int(math.floor(fraction * (len(indices) - 1))))]
+
+
+def then_pockets(doc, result, on_completed, show_panel, session):
+    """What the scan's animation does when it completes, for a slow scan with probed pockets:
+    play the jabs and sweeps (in their own panel, which replaces the scan's, once the scan's
+    has finished its own work), then ``on_completed``. ``session`` keeps the animation."""
+
+    def start():
+        session["pockets"] = play_pockets(doc, result, on_completed, show_panel)
+
+    return lambda: QtCore.QTimer.singleShot(0, start)
