@@ -335,4 +335,4 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
                              scanned_range(scan, window)) + tuple(probe_warnings)
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings,
-                      pockets)
+                      pockets=pockets)
