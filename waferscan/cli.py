@@ -18,6 +18,7 @@ from .core.errors import InputError
 from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, Parameters, atomic_write_text,
                        format_parameters, format_results, read_parameters)
 from .core.model import DIRECTIONS, MODES
+from .core.rules import offers_exact_edges
 
 PROG = "waferscan"
 
@@ -55,7 +56,7 @@ def _write(path, text):
 def _check_engine(layout, engine, source, parameters=None):
     """Exact edges (z_step = 0) come from the analytic engine only; the error names the line
     that set z_step, in the parameters file when it came from there."""
-    if layout.scan.exact and engine != "analytic":
+    if layout.scan.exact and not offers_exact_edges(engine):
         message = (f"z_step = 0 asks for exact edges, which only the analytic engine gives "
                    f"(not {engine})")
         if parameters is not None and "z_step" in parameters.values:

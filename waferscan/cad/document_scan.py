@@ -14,9 +14,10 @@ from ..core.engines import CAD_ENGINES, StepHits, reachable_wafers, runs_from_bl
 from ..core.geometry import beam_hits_wafer
 from ..core.mcs import apply_parameters
 from ..core.model import Beam, Wafer, unit
+from ..core.rules import check_stepped
 from ..core.scan import scan_layout
 from . import roles
-from .reader import DocumentScene, read_layout
+from .reader import DocumentScene, beam_from, read_layout
 
 
 class ScannerMover:
@@ -79,19 +80,6 @@ class _LocalDisc:
                      self.wafer.thickness)
 
 
-def read_beam(instance, ends=None):
-    """The beam as the scanner's placement in the document puts it now. ``ends``: the
-    scanner's (Emitter, Receiver) read once for a whole scan (each read of a vector property
-    leaks a little in FreeCAD 0.20)."""
-    if ends is None:
-        holder = roles.role_holder(instance.obj)
-        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
-    placement = instance.placement()
-    e = placement.multVec(ends[0])
-    r = placement.multVec(ends[1])
-    return Beam((e.x, e.y, e.z), unit(r - e), (r - e).Length)
-
-
 def stepper_through_document(scene, mover, prepare):
     """A stepped engine that goes through the document: for each scan position, move the
     scanner (or the robot's lift joint), read the beam back, and ask ``hits(beam)`` for the
@@ -100,8 +88,7 @@ def stepper_through_document(scene, mover, prepare):
 
     def stepper(layout, progress=None):
         scan = layout.scan
-        if scan.exact:
-            raise ValueError("z_step = 0 (exact edges) is only offered by the analytic engine")
+        check_stepped(scan)
         hits = prepare(layout, reachable_wafers(layout))
         scanner = scene.scanner()
         holder = roles.role_holder(scanner.obj)
@@ -113,7 +100,7 @@ def stepper_through_document(scene, mover, prepare):
         try:
             for k in range(count):
                 mover.move_to(scan.position(k))
-                for i in hits(read_beam(scanner, ends)):
+                for i in hits(beam_from(scanner, ends)):
                     blocked[k] = True
                     first[i] = k if first[i] is None else first[i]
                     last[i] = k

@@ -12,6 +12,7 @@ import FreeCAD as App
 import Part
 
 from ..core.model import DIRECTIONS, MODES
+from ..core.rules import stored_thickness_tolerance
 from . import roles
 
 
@@ -183,7 +184,7 @@ def make_settings(doc, scan, mapping, carrier):
     obj.Direction = scan.direction
     roles.add_property(obj, "App::PropertyFloat", "ThicknessTolerance",
                        "Wafer thickness tolerance in mm; negative: half the nominal thickness",
-                       -1.0 if mapping.thickness_tolerance is None else mapping.thickness_tolerance)
+                       stored_thickness_tolerance(mapping.thickness_tolerance))
     roles.add_property(obj, "App::PropertyString", "Carrier", "Name (label) of the carrier to scan",
                        carrier or "")
     return obj

@@ -15,6 +15,8 @@ import FreeCAD as App
 
 from ..core import schema, validation
 from ..core.errors import InputError
+from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem,
+                           thickness_tolerance_from_stored)
 from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
                           unit)
 from . import roles
@@ -98,12 +100,17 @@ def carrier_from(instance):
         front=(-back.x / norm, -back.y / norm), support_span=_value(holder.SupportSpan))
 
 
-def beam_from(instance):
-    """The beam of a scanner instance, in global coordinates."""
-    holder = roles.role_holder(instance.obj)
+def beam_from(instance, ends=None):
+    """The beam of a scanner instance, in global coordinates, as its placement in the document
+    puts it now; an InputError when its emitter and receiver coincide. ``ends``: the scanner's
+    (Emitter, Receiver) when read once for a whole scan (each read of a vector property leaks a
+    little in FreeCAD 0.20)."""
+    if ends is None:
+        holder = roles.role_holder(instance.obj)
+        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
     placement = instance.placement()
-    emitter = placement.multVec(App.Vector(holder.Emitter))
-    receiver = placement.multVec(App.Vector(holder.Receiver))
+    emitter = placement.multVec(ends[0])
+    receiver = placement.multVec(ends[1])
     length = (receiver - emitter).Length
     if length == 0.0:
         raise InputError(document_source(instance.root.Document), None,
@@ -149,7 +156,7 @@ def _settings(scene, beam, carriers):
                              if k in ScanParameters.__dataclass_fields__},
                           mode=obj.Mode, direction=obj.Direction)
     tolerance = float(obj.ThicknessTolerance)
-    mapping = MappingTolerances(thickness_tolerance=None if tolerance < 0 else tolerance,
+    mapping = MappingTolerances(thickness_tolerance=thickness_tolerance_from_stored(tolerance),
                                 **{k: v for k, v in values.items()
                                    if k in MappingTolerances.__dataclass_fields__})
     return scan, mapping, obj.Carrier or None
@@ -169,9 +176,10 @@ def read_layout(doc, scene=None):
     names = [c.name for c in carriers]
     if not carriers:
         raise scene.error("no carrier: tag one with the carrier role")
-    if chosen is None and len(carriers) > 1:
+    problem = carrier_choice_problem(names, chosen)
+    if problem == SEVERAL_CARRIERS:
         raise scene.error(f"several carriers ({', '.join(names)}): set ScanSettings.Carrier")
-    if chosen is not None and chosen not in names:
+    if problem:
         raise scene.error(f"ScanSettings.Carrier is {chosen!r}, but the carriers are "
                           f"{', '.join(names)}")
     # The scan starts at StartZ: the beam as it stands is moved along the lift axis to there.

@@ -21,6 +21,7 @@ from pathlib import Path
 
 from . import schema, validation
 from .errors import InputError
+from .rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_fits_pitch
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
 
@@ -236,14 +237,14 @@ def parse_scenario(text, source="<scenario>", folder=None):
                                    for k, check in schema.MAPPING_KEYS.items()})
     scan_table = data.get("scan", {})
     chosen = reader.value(scan_table, "scan", "carrier", schema.carrier_name)
-    if chosen is None:
-        if len(carriers) > 1:
-            raise reader.error(f"several carriers ({', '.join(names)}): say which one to scan "
-                               "with carrier = \"NAME\"", "scan")
-        chosen = carriers[0].name
-    elif chosen not in names:
+    problem = carrier_choice_problem(names, chosen)
+    if problem == SEVERAL_CARRIERS:
+        raise reader.error(f"several carriers ({', '.join(names)}): say which one to scan "
+                           "with carrier = \"NAME\"", "scan")
+    if problem:
         raise reader.error(f"no carrier named {chosen!r} (carriers: {', '.join(names)})",
                            "scan", key="carrier")
+    chosen = chosen or carriers[0].name
 
     lift_axis = (0.0, 0.0, 1.0)
     sensor = data.get("sensor", {})
@@ -314,7 +315,7 @@ def _carrier(reader, data, i):
     pitch = get("pitch", schema.positive, default=10.0)
     diameter = get("wafer_diameter", schema.positive, default=300.0)
     thickness = get("wafer_thickness", schema.positive, default=0.775)
-    if thickness >= pitch:
+    if not thickness_fits_pitch(thickness, pitch):
         raise reader.error(f"wafer_thickness {thickness:g} must be less than the pitch "
                            f"{pitch:g}", "carrier", i, "wafer_thickness")
     front = get("front", schema.vector(2, nonzero=True), default=(0.0, -1.0))

@@ -15,7 +15,7 @@ from PySide import QtCore, QtGui
 
 from ..addon import icon_path
 from ..cad.disc import NotADisc
-from ..core.errors import InputError
+from ..core.errors import InputError, WaferScanError
 from ..core.model import ScanParameters
 from . import preferences
 from .inputs import format_length
@@ -507,7 +507,7 @@ class _Command:
     def Activated(self):
         try:
             self.run()
-        except (InputError, NotADisc) as exc:
+        except WaferScanError as exc:
             report_error(exc)
 
     def IsActive(self):

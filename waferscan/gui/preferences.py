@@ -9,6 +9,7 @@ import FreeCADGui as Gui
 from PySide import QtGui
 
 from ..core.model import MappingTolerances
+from ..core.rules import HALF_THICKNESS_STORED, thickness_tolerance_from_stored
 from .inputs import length_input, length_value, set_length
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
@@ -25,9 +26,9 @@ def mapping_tolerances():
     """The default MappingTolerances: the preferences', FreeCAD's parameters being the store.
     A negative thickness tolerance means "half the nominal thickness" (the core's None)."""
     group = _group()
-    thickness = group.GetFloat("ThicknessTolerance", -1.0)
+    thickness = group.GetFloat("ThicknessTolerance", HALF_THICKNESS_STORED)
     return MappingTolerances(
-        thickness_tolerance=None if thickness < 0 else thickness,
+        thickness_tolerance=thickness_tolerance_from_stored(thickness),
         position_tolerance=group.GetFloat("PositionTolerance", _DEFAULTS.position_tolerance),
         protrusion_limit=group.GetFloat("ProtrusionLimit", _DEFAULTS.protrusion_limit))
 
@@ -145,7 +146,7 @@ class PreferencesPage:
                 App.Console.PrintError(f"WaferScan preferences: {name} not changed: {exc}\n")
                 return None
 
-        thickness = -1.0 if self.half_thickness.isChecked() else \
+        thickness = HALF_THICKNESS_STORED if self.half_thickness.isChecked() else \
             typed(self.thickness, "thickness tolerance")
         speed = self.speed.value()
         if self._loaded_speed is not None and speed == self._shown_speed:
