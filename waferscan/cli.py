@@ -11,7 +11,7 @@ import json
 import sys
 from pathlib import Path
 
-from .addon import addon_root
+from .addon import paper_scenario
 from .core import report
 from .core.engines import CAD_ENGINES, ENGINES
 from .core.errors import InputError
@@ -21,11 +21,6 @@ from .core.model import DIRECTIONS, MODES
 from .core.rules import offers_exact_edges
 
 PROG = "waferscan"
-
-
-def paper_scenario():
-    """The paper's experiment as a scenario file (resources/examples/paper.toml)."""
-    return Path(addon_root()) / "resources" / "examples" / "paper.toml"
 
 
 class _Progress:
@@ -190,7 +185,7 @@ def cmd_layout(args):
 
 
 def cmd_crosscheck(args):
-    from .cad.brep import crosscheck
+    from .cad.crosscheck import crosscheck
     from .cad.layout_files import opened_layout
 
     with opened_layout(args.input) as doc:

@@ -65,3 +65,21 @@ def test_stored_thickness_tolerance_round_trips():
         assert rules.thickness_tolerance_from_stored(stored) == tolerance
         assert MappingTolerances(thickness_tolerance=rules.thickness_tolerance_from_stored(
             stored)).thickness_tolerance_for(0.7) == (0.35 if tolerance is None else tolerance)
+
+
+def test_a_scenario_without_a_mapping_table_gets_the_default_mapping_given():
+    """open_scenario's rule (the preferences' tolerances where the file sets none), read in the
+    one parse of the file."""
+    from waferscan.addon import paper_scenario
+    from waferscan.core.scenario import parse_scenario
+
+    paper = paper_scenario().read_text(encoding="utf-8")
+    mapping_table = "[mapping]\nposition_tolerance = 0.5\nprotrusion_limit = 1.0\n"
+    assert mapping_table in paper
+    text = paper.replace(mapping_table, "")
+    given = MappingTolerances(thickness_tolerance=0.2, position_tolerance=0.9,
+                              protrusion_limit=7.0)
+    assert parse_scenario(text, default_mapping=given).mapping == given
+    assert parse_scenario(text).mapping == MappingTolerances()
+    assert parse_scenario(paper, default_mapping=given).mapping == MappingTolerances(
+        position_tolerance=0.5, protrusion_limit=1.0)

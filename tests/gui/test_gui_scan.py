@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.cad.brep import crosscheck
+from waferscan.cad.crosscheck import crosscheck
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.layout_files import opened_layout
 from waferscan.cli import paper_scenario

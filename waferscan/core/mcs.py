@@ -18,6 +18,7 @@ from pathlib import Path
 
 from . import schema, validation
 from .errors import InputError
+from .text_files import read_text
 from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -38,19 +39,6 @@ PARAMETER_KEYS = {**schema.SCAN_KEYS, **CARRIER_KEYS, **schema.MAPPING_KEYS}
 _CARRIER_FIELDS = {"slot_count": "slot_count", "slot_pitch": "pitch",
                    "first_slot_z": "first_slot_z", "wafer_thickness": "wafer_thickness",
                    "wafer_diameter": "wafer_diameter"}
-
-
-def read_text(path):
-    """A text file's contents as str (BOM dropped); an InputError naming the file otherwise."""
-    path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(path, None, f"cannot read: {exc.strerror}") from None
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(path, raw[:exc.start].count(b"\n") + 1, "not UTF-8 text") from None
 
 
 def _content_lines(text):

@@ -17,10 +17,12 @@ from __future__ import annotations
 import math
 import re
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 from . import schema, validation
 from .errors import InputError
+from .text_files import read_text
 from .rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_fits_pitch
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
@@ -185,24 +187,18 @@ def key_line(text, table, key):
     return _Lines(text.lstrip("\ufeff")).of(table, None, key)
 
 
-def read_scenario(path):
-    """Read a scenario file into a ``Layout``."""
+def read_scenario(path, default_mapping=None):
+    """Read a scenario file into a ``Layout``; ``default_mapping`` as in ``parse_scenario``."""
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(path, None, f"cannot read the scenario: {exc.strerror}") from None
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        raise InputError(path, line, "not UTF-8 text") from None
-    return parse_scenario(text, str(path), folder=path.resolve().parent)
+    text = read_text(path, "the scenario")
+    return parse_scenario(text, str(path), folder=path.resolve().parent,
+                          default_mapping=default_mapping)
 
 
-def parse_scenario(text, source="<scenario>", folder=None):
+def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None):
     """Parse scenario text into a ``Layout``; ``source`` names it in error messages, ``folder``
-    is where relative paths start (the current folder when None)."""
+    is where relative paths start (the current folder when None). ``default_mapping``: the
+    ``MappingTolerances`` a scenario without a [mapping] table gets (None: the core's)."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -260,6 +256,8 @@ def parse_scenario(text, source="<scenario>", folder=None):
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
     _check_layout(reader, layout, len(data.get("wafer", [])))
+    if default_mapping is not None and "mapping" not in data:
+        layout = replace(layout, mapping=default_mapping)
     return layout
 
 

@@ -11,7 +11,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from ..cad.document_scan import mover_for
+from ..cad.stepping import mover_for
 from ..cad.reader import DocumentScene
 from ..core.model import DOWN, UPDOWN
 

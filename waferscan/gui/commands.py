@@ -4,17 +4,14 @@ view, and a user's mistake also gets a (non-blocking) message box."""
 
 from __future__ import annotations
 
-import tomllib
 from contextlib import contextmanager
-from dataclasses import replace
 from pathlib import Path
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from ..addon import icon_path
-from ..cad.disc import NotADisc
+from ..addon import icon_path, paper_scenario
 from ..core.errors import InputError, WaferScanError
 from ..core.model import ScanParameters
 from . import preferences
@@ -112,13 +109,7 @@ def open_scenario(path):
     from ..cad.builder import build_document
     from ..core.scenario import read_scenario
 
-    layout = read_scenario(path)
-    try:
-        has_mapping = "mapping" in tomllib.loads(Path(path).read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        has_mapping = True  # read_scenario read it; keep what it gave
-    if not has_mapping:
-        layout = replace(layout, mapping=preferences.mapping_tolerances())
+    layout = read_scenario(path, default_mapping=preferences.mapping_tolerances())
     doc = build_document(layout, name=Path(path).stem.replace("-", "_") or "Layout")
     Gui.getDocument(doc.Name).ActiveView.viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
@@ -443,7 +434,7 @@ def _split_and_tag(role, objects, compounds):
 def cross_check(doc):
     """The B-rep cross-check of the document's last scan, reported in the report view and a
     dialog."""
-    from ..cad.brep import crosscheck
+    from ..cad.crosscheck import crosscheck
     from ..core.report import format_crosscheck
 
     result = results_for(doc)
@@ -519,7 +510,6 @@ class NewPaperLayout(_Command):
     tip = "Build the paper's experiment: a 25-slot FOUP with ten wafers and the robot"
 
     def run(self):
-        from ..cli import paper_scenario
         record(f"open_scenario({str(paper_scenario())!r})")
 
     def IsActive(self):
@@ -531,7 +521,6 @@ class OpenScenario(_Command):
     tip = "Build a layout from a scenario file (.toml)"
 
     def run(self):
-        from ..cli import paper_scenario
         path, _ = QtGui.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Open scenario",
                                                     str(paper_scenario().parent),
                                                     "Scenario (*.toml)")
