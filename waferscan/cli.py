@@ -59,22 +59,32 @@ def _check_engine(layout, engine, source, parameters=None):
         raise InputError(source, None, message)
 
 
-def _scan_input(path, engine, parameters=None):
+def _scan_input(path, engine, parameters=None, store=False):
     """Scan a scenario or a layout through a FreeCAD document: the scenario is built into one,
-    the layout opened; the scan reads it back. FreeCAD is imported only here."""
+    the layout opened; the scan reads it back. ``store``: the results are kept in the layout
+    as its ScanResults spreadsheet and the layout saved (atomically). FreeCAD is imported only
+    here."""
     from .cad.document_scan import scan_document
-    from .cad.layout_files import opened_layout
+    from .cad.layout_files import opened_layout, save_document
+    from .cad.results_sheet import store_in_document
 
+    if store and Path(path).suffix.lower() != ".fcstd":
+        raise InputError(path, None, "--store keeps the results in a layout .FCStd; "
+                                     "this is a scenario (make a layout with waferscan layout)")
     progress = _Progress(f"scanning ({engine})")
     with opened_layout(path) as doc:
         try:
             def check(layout):
                 _check_engine(layout, engine, path, parameters)
 
-            return scan_document(doc, engine, progress=progress, parameters=parameters,
-                                 check=check)
+            result = scan_document(doc, engine, progress=progress, parameters=parameters,
+                                   check=check)
         finally:
             progress.close()
+        if store:
+            store_in_document(doc, result)
+            save_document(doc, path)
+        return result
 
 
 def _warn(result):
@@ -162,7 +172,7 @@ def cmd_scan(args):
     if overrides:
         base = parameters or Parameters({}, {}, "--mode/--direction")
         parameters = Parameters({**base.values, **overrides}, base.lines, base.source)
-    result = _scan_input(args.input, args.engine, parameters)
+    result = _scan_input(args.input, args.engine, parameters, store=args.store)
     if args.out:
         _write(args.out, format_results(None, "SCF" if result.layout.scan.mode == "fast"
                                         else "SCS", result))
@@ -268,6 +278,8 @@ def build_parser():
     scan.add_argument("--direction", choices=DIRECTIONS)
     scan.add_argument("--out", metavar="FILE", help="write the results in results.txt format")
     scan.add_argument("--json", action="store_true", help="print one JSON object")
+    scan.add_argument("--store", action="store_true", help="keep the results in the layout "
+                                                           ".FCStd (its ScanResults spreadsheet)")
     scan.set_defaults(run=cmd_scan)
 
     layout = sub.add_parser("layout", help="build a FreeCAD layout from a scenario")

@@ -184,7 +184,7 @@ def _choose_carrier(doc, carriers):
 def scan(doc):
     """The headless scan of the document; its results kept in it as a Spreadsheet (one undo
     step) and for the results commands."""
-    from .results_view import store_in_document
+    from ..cad.results_sheet import store_in_document
 
     result = results_for(doc)
     _session["results"][doc.Name] = result
