@@ -36,7 +36,7 @@ class ScanAnimation(QtCore.QObject):
     moved = QtCore.Signal(int, float)
     finished = QtCore.Signal()
 
-    def __init__(self, doc, result, steps_per_frame=10, duration_s=None):
+    def __init__(self, doc, result, steps_per_frame=10, duration_s=None, scene=None):
         super().__init__()
         self.doc, self.result = doc, result
         self.scan = result.layout.scan
@@ -46,7 +46,8 @@ class ScanAnimation(QtCore.QObject):
         self.duration_s = None if duration_s is None else max(0.1, float(duration_s))
         self._clock = (0.0, 0)  # (monotonic time, frame) the clock counts from
         self._shown = None  # the frame shown last
-        scene = DocumentScene.of(doc)
+        # The scene the scan read (DocumentScene), or the document read again (a replay).
+        scene = scene or DocumentScene.of(doc)
         self.mover = mover_for(scene, result.layout)
         self.beam = scene.scanner().obj
         # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
@@ -60,10 +61,12 @@ class ScanAnimation(QtCore.QObject):
         else:
             self.step, self.count = scan.z_step, scan.position_count
         self.frames = 2 * self.count - 1 if scan.direction == UPDOWN else self.count
-        self.wafers = {w.Label: w for w in doc.Objects
-                       if getattr(w, "WaferScanRole", "") == "Wafer"}
-        self.colours = {label: tuple(w.ViewObject.ShapeColor[:3])
-                        for label, w in self.wafers.items() if w.ViewObject}
+        # Each wafer of the result by its name, as the scene walk found it: the object it shows
+        # through links (the one whose colour the 3D view draws).
+        self.wafers = {wafer.name: instance.target
+                       for wafer, instance in zip(result.layout.wafers, scene.wafers)}
+        self.colours = {name: tuple(w.ViewObject.ShapeColor[:3])
+                        for name, w in self.wafers.items() if w.ViewObject}
         self.k = 0  # the frame shown next
         self.z = self.position(0)
         self.completed = False
