@@ -97,3 +97,28 @@ def test_a_document_saved_before_versions_opens_at_today_s_version(saved, tmp_pa
         assert scan_document(doc).code == code
     finally:
         App.closeDocument(doc.Name)
+
+
+def test_the_role_tables_list_what_every_role_object_carries(saved):
+    """cad/role_properties.py is the one listing: each role object of a built layout (robot
+    included) carries exactly its table's properties in the WaferScan group, of those types."""
+    from waferscan.cad import role_properties, roles
+
+    doc = _open(saved[0])
+    try:
+        seen = set()
+        for obj in doc.Objects:
+            role = roles.role_of(obj)
+            if role is None or obj.getLinkedObject(True) is not obj:
+                continue
+            seen.add(role)
+            carried = {name: obj.getTypeIdOfProperty(name) for name in obj.PropertiesList
+                       if obj.getGroupOfProperty(name) == roles.GROUP
+                       and name not in (roles.ROLE, features.VERSION_PROPERTY)}
+            listed = {p.name: p.kind for p in role_properties.BY_ROLE[role]}
+            assert carried == listed, role
+            for prop in role_properties.BY_ROLE[role]:
+                assert obj.getDocumentationOfProperty(prop.name) == prop.tip
+        assert seen == set(role_properties.BY_ROLE)
+    finally:
+        App.closeDocument(doc.Name)
