@@ -41,12 +41,12 @@ def brep_stepper(scene, mover):
         solids = {i: scene.wafers[i].shape() for i in reachable}
         boxes = {i: s.BoundBox for i, s in solids.items()}
 
-        def hits(beam):
+        def wafers_hit(beam):
             box = beam_edge(beam.emitter, beam).BoundBox
             box.enlarge(10 * TOUCH)
             return [i for i, solid in solids.items()
                     if box.intersect(boxes[i]) and brep_blocked(solid, beam.emitter, beam)]
 
-        return hits
+        return wafers_hit
 
     return stepper_through_document(scene, mover, prepare)

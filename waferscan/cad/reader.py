@@ -82,11 +82,13 @@ def wafer_from(instance, name):
 
 
 def carrier_from(instance):
-    holder = roles.role_holder(instance.obj)
-    anchor = instance.placement().multiply(holder.SlotOrigin)
+    """The core Carrier of a carrier instance: its slots from its role's properties (those of
+    the object the role is on, the link's target for a link), placed where the instance is."""
+    role_object = roles.role_holder(instance.obj)
+    anchor = instance.placement().multiply(role_object.SlotOrigin)
     back = anchor.Rotation.multVec(App.Vector(0, 1, 0))
     norm = math.hypot(back.x, back.y) or float("nan")  # standing on edge: validation refuses
-    label = holder.Label if instance.obj is holder else instance.obj.Label
+    label = role_object.Label if instance.obj is role_object else instance.obj.Label
     try:
         schema.carrier_name(label)
     except ValueError as exc:
@@ -94,10 +96,11 @@ def carrier_from(instance):
                          f"{instance.path}: {exc}; rename it") from None
     return Carrier(
         name=label,
-        slot_count=int(holder.SlotCount), pitch=_value(holder.Pitch),
+        slot_count=int(role_object.SlotCount), pitch=_value(role_object.Pitch),
         first_slot_z=anchor.Base.z, center=(anchor.Base.x, anchor.Base.y),
-        wafer_diameter=_value(holder.WaferDiameter), wafer_thickness=_value(holder.WaferThickness),
-        front=(-back.x / norm, -back.y / norm), support_span=_value(holder.SupportSpan))
+        wafer_diameter=_value(role_object.WaferDiameter),
+        wafer_thickness=_value(role_object.WaferThickness),
+        front=(-back.x / norm, -back.y / norm), support_span=_value(role_object.SupportSpan))
 
 
 def beam_from(instance, ends=None):

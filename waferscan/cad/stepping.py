@@ -54,14 +54,14 @@ def mover_for(scene, layout):
 
 def stepper_through_document(scene, mover, prepare):
     """A stepped engine that goes through the document: for each scan position, move the
-    scanner (or the robot's lift joint), read the beam back, and ask ``hits(beam)`` for the
-    indices of the wafers it meets. ``prepare(layout, reachable)`` returns ``hits``; reachable
-    are the wafers that pass the accessibility check."""
+    scanner (or the robot's lift joint), read the beam back, and ask ``wafers_hit(beam)`` for
+    the indices of the wafers it meets. ``prepare(layout, reachable)`` returns ``wafers_hit``;
+    reachable are the wafers that pass the accessibility check."""
 
     def stepper(layout, progress=None):
         scan = layout.scan
         check_stepped(scan)
-        hits = prepare(layout, reachable_wafers(layout))
+        wafers_hit = prepare(layout, reachable_wafers(layout))
         scanner = scene.scanner()
         holder = roles.role_holder(scanner.obj)
         ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
@@ -72,7 +72,7 @@ def stepper_through_document(scene, mover, prepare):
         try:
             for k in range(count):
                 mover.move_to(scan.position(k))
-                for i in hits(beam_from(scanner, ends)):
+                for i in wafers_hit(beam_from(scanner, ends)):
                     blocked[k] = True
                     first[i] = k if first[i] is None else first[i]
                     last[i] = k

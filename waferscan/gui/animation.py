@@ -45,7 +45,7 @@ class ScanAnimation(QtCore.QObject):
         # time on any machine (frames are skipped on a slow one); else steps_per_frame a frame.
         self.duration_s = None if duration_s is None else max(0.1, float(duration_s))
         self._clock = (0.0, 0)  # (monotonic time, frame) the clock counts from
-        self._shown = None  # the frame shown last
+        self._frame_shown = None  # the frame shown last
         # The scene the scan read (DocumentScene), or the document read again (a replay).
         scene = scene or DocumentScene.of(doc)
         self.mover = mover_for(scene, result.layout)
@@ -193,9 +193,9 @@ class ScanAnimation(QtCore.QObject):
 
     def _tick(self):
         last = self.frames - 1
-        if self.duration_s is not None and self._shown is not None:
+        if self.duration_s is not None and self._frame_shown is not None:
             due = self._due()
-            if due <= self._shown:
+            if due <= self._frame_shown:
                 return  # the clock has not reached the next frame yet
             self.k = min(due, last)
         try:
@@ -213,7 +213,7 @@ class ScanAnimation(QtCore.QObject):
             self._end(fault=f"{type(exc).__name__}: {exc}")
             return
         self.bar.setValue(self.k)
-        self._shown = self.k
+        self._frame_shown = self.k
         self.moved.emit(self.k, self.z)
         if self.k >= last:
             self._end(completed=True)
@@ -263,7 +263,7 @@ class BeamOverlay:
 
         from ..cad import roles
 
-        holder = roles.role_holder(obj)
+        role_object = roles.role_holder(obj)
         self.root = obj.ViewObject.RootNode
         self.node = coin.SoSeparator()
         light = coin.SoLightModel()
@@ -272,7 +272,7 @@ class BeamOverlay:
         style = coin.SoDrawStyle()
         style.lineWidth = 4
         points = coin.SoCoordinate3()
-        points.point.setValues(0, 2, [tuple(holder.Emitter), tuple(holder.Receiver)])
+        points.point.setValues(0, 2, [tuple(role_object.Emitter), tuple(role_object.Receiver)])
         line = coin.SoLineSet()
         line.numVertices.setValue(2)
         for node in (light, self.colour, style, points, line):

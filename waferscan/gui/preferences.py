@@ -10,7 +10,7 @@ from PySide import QtGui
 
 from ..core.model import MappingTolerances
 from ..core.rules import HALF_THICKNESS_STORED, thickness_tolerance_from_stored
-from .inputs import length_input, length_value, set_length
+from .inputs import folder_row, length_input, length_value, set_length
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 _DEFAULTS = MappingTolerances()
@@ -88,13 +88,7 @@ class PreferencesPage:
         self.folder = QtGui.QLineEdit()
         self.folder.setToolTip("The folder of parameters.txt, commands.txt and results.txt "
                                "that the MCS link panel opens with")
-        browse = QtGui.QPushButton("Browse…")
-        browse.setToolTip("Choose the MCS folder")
-        browse.clicked.connect(self._browse)
-        folder_row = QtGui.QHBoxLayout()
-        folder_row.addWidget(self.folder)
-        folder_row.addWidget(browse)
-        link_form.addRow("Folder", folder_row)
+        link_form.addRow("Folder", folder_row(self.folder, self.form, self.folder.setText))
         animation = QtGui.QGroupBox("Animation")
         animation_form = QtGui.QFormLayout(animation)
         self.speed = QtGui.QDoubleSpinBox()
@@ -116,11 +110,6 @@ class PreferencesPage:
         for box in (tolerances, link, animation):
             layout.addWidget(box)
         layout.addStretch(1)
-
-    def _browse(self):
-        folder = QtGui.QFileDialog.getExistingDirectory(self.form, "MCS folder", self.folder.text())
-        if folder:
-            self.folder.setText(folder)
 
     def loadSettings(self):
         mapping = mapping_tolerances()
