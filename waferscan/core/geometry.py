@@ -21,15 +21,8 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     (parameter lam in mm) the thickness band and the radius each allow one interval of lam; the
     beam hits when those and [0, L] overlap.
     """
-    ox, oy, oz = emitter
-    ex, ey, ez = beam.direction
-    cx, cy, cz = wafer.center
-    nx, ny, nz = wafer.normal
-    wx = ox - cx
-    wy = oy - cy
-    wz = oz - cz
-    wn = wx * nx + wy * ny + wz * nz
-    en = ex * nx + ey * ny + ez * nz
+    wn, en, qq, pq, c = _beam_across_wafer(emitter, beam.direction, wafer.center,
+                                           wafer.normal, wafer.radius, tol)
     lo = -tol
     hi = beam.length + tol
     # Thickness band: -tol <= wn + lam*en <= t + tol.
@@ -41,7 +34,28 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
         b = (wafer.thickness + tol - wn) / en
         lo = max(lo, min(a, b))
         hi = min(hi, max(a, b))
-    # Radius: |p + lam*q|^2 <= (R + tol)^2, p and q the parts of w and e across the normal.
+    # Radius: |p + lam*q|^2 <= (R + tol)^2 (see _beam_across_wafer).
+    span = _rim_span(qq, pq, c)
+    if span is None:
+        return False
+    return max(lo, span[0]) <= min(hi, span[1])
+
+
+def _beam_across_wafer(emitter, direction, center, normal, radius, tol):
+    """The beam in the wafer's frame, for the scalar and the numpy test alike (floats or
+    arrays that broadcast; the same operations in the same order, so both give bit-identical
+    answers). With w the emitter's offset from the centre and e the beam's direction:
+    wn = w.n and en = e.n (along the normal); p and q the parts of w and e across the normal,
+    qq = q.q, pq = p.q and c = p.p - (R + tol)^2. Returns (wn, en, qq, pq, c)."""
+    ox, oy, oz = emitter
+    ex, ey, ez = direction
+    cx, cy, cz = center
+    nx, ny, nz = normal
+    wx = ox - cx
+    wy = oy - cy
+    wz = oz - cz
+    wn = wx * nx + wy * ny + wz * nz
+    en = ex * nx + ey * ny + ez * nz
     px = wx - wn * nx
     py = wy - wn * ny
     pz = wz - wn * nz
@@ -50,12 +64,9 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     qz = ez - en * nz
     qq = qx * qx + qy * qy + qz * qz
     pq = px * qx + py * qy + pz * qz
-    r = wafer.radius + tol
+    r = radius + tol
     c = px * px + py * py + pz * pz - r * r
-    span = _rim_span(qq, pq, c)
-    if span is None:
-        return False
-    return max(lo, span[0]) <= min(hi, span[1])
+    return wn, en, qq, pq, c
 
 
 def _rim_span(qq, pq, c):
@@ -84,13 +95,9 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
     """
     import numpy as np  # only the vector engine needs it; importing it costs ~70 ms
 
-    ex, ey, ez = beam.direction
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        wx = ox - cx
-        wy = oy - cy
-        wz = oz - cz
-        wn = wx * nx + wy * ny + wz * nz
-        en = ex * nx + ey * ny + ez * nz
+        wn, en, qq, pq, c = _beam_across_wafer((ox, oy, oz), beam.direction, (cx, cy, cz),
+                                               (nx, ny, nz), radius, tol)
         lo = np.full(np.broadcast(wn, en).shape, -tol)
         hi = np.full(lo.shape, beam.length + tol)
         en_zero = en == 0.0
@@ -99,16 +106,6 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
         b = (thickness + tol - wn) / en
         lo = np.where(en_zero, lo, np.maximum(lo, np.minimum(a, b)))
         hi = np.where(en_zero, hi, np.minimum(hi, np.maximum(a, b)))
-        px = wx - wn * nx
-        py = wy - wn * ny
-        pz = wz - wn * nz
-        qx = ex - en * nx
-        qy = ey - en * ny
-        qz = ez - en * nz
-        qq = qx * qx + qy * qy + qz * qz
-        pq = px * qx + py * qy + pz * qz
-        r = radius + tol
-        c = px * px + py * py + pz * pz - r * r
         qq_zero = qq == 0.0
         disc = pq * pq - qq * c
         ok &= np.where(qq_zero, c <= 0.0, disc >= 0.0)
