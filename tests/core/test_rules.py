@@ -1,18 +1,18 @@
 """Each rule every reader applies lives in one function (core/rules.py); the readers agree with
-it. The doctests in rules.py and errors.py run here too."""
+it. The doctests (the examples in rules.py, errors.py and the public geometry) run here too."""
 
 import doctest
 
 import pytest
 
-from waferscan.core import errors, rules
+from waferscan.core import errors, geometry, rules
 from waferscan.core.engines import ENGINES
 from waferscan.core.errors import EngineError, InputError, ShapeError, WaferScanError
 from waferscan.core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters)
 from waferscan.core.validation import carrier_problems
 
 
-@pytest.mark.parametrize("module", [rules, errors])
+@pytest.mark.parametrize("module", [rules, errors, geometry])
 def test_doctests(module):
     failures, tried = doctest.testmod(module)
     assert tried > 0 and failures == 0

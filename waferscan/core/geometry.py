@@ -20,6 +20,16 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     The solid is {c + u : 0 <= u.n <= t, |u - (u.n) n| <= R}, grown by ``tol``. Along the beam
     (parameter lam in mm) the thickness band and the radius each allow one interval of lam; the
     beam hits when those and [0, L] overlap.
+
+    A level 300 mm wafer 0.775 mm thick seated at z = 300, and a level beam across it:
+
+    >>> from waferscan.core.model import Beam, Wafer
+    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
+    >>> beam = Beam((-200.0, 0.0, 300.4), (1.0, 0.0, 0.0), 400.0)
+    >>> beam_hits_wafer(beam.emitter, beam, wafer)
+    True
+    >>> beam_hits_wafer((-200.0, 0.0, 301.0), beam, wafer)  # 0.225 mm above the top face
+    False
     """
     wn, en, qq, pq, c = _beam_across_wafer(emitter, beam.direction, wafer.center,
                                            wafer.normal, wafer.radius, tol)
@@ -133,7 +143,18 @@ def paper_beam_hits_wafer(emitter, beam, wafer):
     closer than R to the centre? For a beam parallel to the wafer (e.n = 0), equation 2 would
     divide by zero: then s = (r_c - r0).e and the emitter must lie within the thickness band.
     Thickness is otherwise ignored, as in the paper. The band has the touching tolerance of the
-    exact test, so that a face exactly on a step counts the same at the top as at the bottom."""
+    exact test, so that a face exactly on a step counts the same at the top as at the bottom.
+
+    >>> import math
+    >>> from waferscan.core.model import Beam, Wafer
+    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
+    >>> level = Beam((-200.0, 0.0, 300.4), (1.0, 0.0, 0.0), 400.0)
+    >>> paper_beam_hits_wafer(level.emitter, level, wafer)
+    True
+    >>> up = Beam((-400.0, 0.0, 200.0), (math.sqrt(0.5), 0.0, math.sqrt(0.5)), 300.0)
+    >>> paper_beam_hits_wafer(up.emitter, up, wafer)  # meets the mid-plane at x = -299.6
+    False
+    """
     rc = wafer.mid_center
     n = wafer.normal
     e = beam.direction
@@ -154,7 +175,12 @@ def paper_beam_hits_wafer(emitter, beam, wafer):
 
 
 def wafer_bounds(wafer):
-    """Axis-aligned bounds of the wafer solid: ((xmin, ymin, zmin), (xmax, ymax, zmax))."""
+    """Axis-aligned bounds of the wafer solid: ((xmin, ymin, zmin), (xmax, ymax, zmax)).
+
+    >>> from waferscan.core.model import Wafer
+    >>> wafer_bounds(Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775))
+    ((-150.0, -150.0, 300.0), (150.0, 150.0, 300.775))
+    """
     mid = wafer.mid_center
     half = []
     for k in wafer.normal:
@@ -281,6 +307,16 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     faces) and by a conic (the rim). A linear function's extremes over such a region lie at a
     corner of two boundaries, where a line crosses the conic, or where the conic is tangent to a
     line tau = const; all those candidates are listed and the feasible ones kept.
+
+    A level beam 1 mm below a level wafer's bottom face, lifted straight up, meets the wafer
+    from 1 mm to 1.775 mm of travel (grown by the touching tolerance, 1e-9 mm, each way):
+
+    >>> from waferscan.core.model import Beam, Wafer
+    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
+    >>> beam = Beam((-200.0, 0.0, 299.0), (1.0, 0.0, 0.0), 400.0)
+    >>> low, high = translation_range(beam.emitter, beam, (0.0, 0.0, 1.0), wafer)
+    >>> round(low, 6), round(high, 6)
+    (1.0, 1.775)
     """
     # Scalars, not tuples from generators, up to the common case below: this runs once per
     # wafer of every analytic scan (the same arithmetic in the same order as _dot).
