@@ -8,6 +8,7 @@ is inside the addon, and ask it. No FreeCAD import here: this module also runs i
 import os
 import site
 import sys
+from pathlib import Path
 
 from .core.errors import InputError
 
@@ -24,6 +25,11 @@ def addon_root():
 def icon_path(name="WaferScan.svg"):
     """Absolute path of an icon in ``resources/icons``."""
     return os.path.join(ADDON_ROOT, "resources", "icons", name)
+
+
+def paper_scenario():
+    """The paper's experiment as a scenario file (resources/examples/paper.toml), a Path."""
+    return Path(ADDON_ROOT) / "resources" / "examples" / "paper.toml"
 
 
 def venv_dir():

@@ -11,20 +11,16 @@ import json
 import sys
 from pathlib import Path
 
-from .addon import addon_root
+from .addon import paper_scenario
 from .core import report
 from .core.engines import CAD_ENGINES, ENGINES
 from .core.errors import InputError
 from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, Parameters, atomic_write_text,
                        format_parameters, format_results, read_parameters)
 from .core.model import DIRECTIONS, MODES
+from .core.rules import offers_exact_edges
 
 PROG = "waferscan"
-
-
-def paper_scenario():
-    """The paper's experiment as a scenario file (resources/examples/paper.toml)."""
-    return Path(addon_root()) / "resources" / "examples" / "paper.toml"
 
 
 class _Progress:
@@ -55,7 +51,7 @@ def _write(path, text):
 def _check_engine(layout, engine, source, parameters=None):
     """Exact edges (z_step = 0) come from the analytic engine only; the error names the line
     that set z_step, in the parameters file when it came from there."""
-    if layout.scan.exact and engine != "analytic":
+    if layout.scan.exact and not offers_exact_edges(engine):
         message = (f"z_step = 0 asks for exact edges, which only the analytic engine gives "
                    f"(not {engine})")
         if parameters is not None and "z_step" in parameters.values:
@@ -69,22 +65,32 @@ def _check_engine(layout, engine, source, parameters=None):
                                        f"computed by the analytic engine only (not {engine})")
 
 
-def _scan_input(path, engine, parameters=None):
+def _scan_input(path, engine, parameters=None, store=False):
     """Scan a scenario or a layout through a FreeCAD document: the scenario is built into one,
-    the layout opened; the scan reads it back. FreeCAD is imported only here."""
+    the layout opened; the scan reads it back. ``store``: the results are kept in the layout
+    as its ScanResults spreadsheet and the layout saved (atomically). FreeCAD is imported only
+    here."""
     from .cad.document_scan import scan_document
-    from .cad.layout_files import opened_layout
+    from .cad.layout_files import opened_layout, save_document
+    from .cad.results_sheet import store_in_document
 
+    if store and Path(path).suffix.lower() != ".fcstd":
+        raise InputError(path, None, "--store keeps the results in a layout .FCStd; "
+                                     "this is a scenario (make a layout with waferscan layout)")
     progress = _Progress(f"scanning ({engine})")
     with opened_layout(path) as doc:
         try:
             def check(layout):
                 _check_engine(layout, engine, path, parameters)
 
-            return scan_document(doc, engine, progress=progress, parameters=parameters,
-                                 check=check)
+            result = scan_document(doc, engine, progress=progress, parameters=parameters,
+                                   check=check)
         finally:
             progress.close()
+        if store:
+            store_in_document(doc, result)
+            save_document(doc, path)
+        return result
 
 
 def _warn(result):
@@ -176,7 +182,7 @@ def cmd_scan(args):
     if overrides:
         base = parameters or Parameters({}, {}, "--mode/--direction")
         parameters = Parameters({**base.values, **overrides}, base.lines, base.source)
-    result = _scan_input(args.input, args.engine, parameters)
+    result = _scan_input(args.input, args.engine, parameters, store=args.store)
     if args.out:
         _write(args.out, format_results(None, "SCF" if result.layout.scan.mode == "fast"
                                         else "SCS", result))
@@ -208,7 +214,7 @@ def cmd_layout(args):
 
 
 def cmd_crosscheck(args):
-    from .cad.brep import crosscheck
+    from .cad.crosscheck import crosscheck
     from .cad.layout_files import opened_layout
 
     with opened_layout(args.input) as doc:
@@ -293,6 +299,8 @@ def build_parser():
     scan.add_argument("--json", action="store_true", help="print one JSON object")
     scan.add_argument("--plot", metavar="FILE", help="draw the sensor's signal b(z), thresholds, "
                       "edges and slot windows to a .png or .svg")
+    scan.add_argument("--store", action="store_true", help="keep the results in the layout "
+                                                           ".FCStd (its ScanResults spreadsheet)")
     scan.set_defaults(run=cmd_scan)
 
     layout = sub.add_parser("layout", help="build a FreeCAD layout from a scenario")

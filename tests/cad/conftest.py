@@ -6,3 +6,30 @@ import sys
 FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 if FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
+
+
+import pytest  # noqa: E402 (after FreeCAD's path)
+
+
+@pytest.fixture(scope="session")
+def paper_layout_read():
+    """The paper's scenario read into a core Layout (resources/examples/paper.toml)."""
+    from waferscan.addon import paper_scenario
+    from waferscan.core.scenario import read_scenario
+
+    return read_scenario(paper_scenario())
+
+
+@pytest.fixture
+def paper_doc(paper_layout_read):
+    """A fresh FreeCAD document of the paper's layout, closed after the test (unless the test
+    closed it)."""
+    import FreeCAD as App
+
+    from waferscan.cad.builder import build_document
+
+    doc = build_document(paper_layout_read, "PaperTest")
+    name = doc.Name
+    yield doc
+    if name in App.listDocuments():
+        App.closeDocument(name)

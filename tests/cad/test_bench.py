@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from waferscan import bench
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core import engines
 from waferscan.core.scenario import read_scenario
 

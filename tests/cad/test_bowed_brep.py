@@ -64,7 +64,7 @@ def test_the_bow_survives_the_document():
 
 
 def test_crosscheck_and_the_brep_engine_confirm_a_bowed_layout():
-    from waferscan.cad.brep import crosscheck
+    from waferscan.cad.crosscheck import crosscheck
 
     wafers = tuple(replace(w, bow=0.1) for w in PAPER.wafers[:3])
     layout = replace(PAPER, robot=None, wafers=wafers).with_scan(final_z=330.0)

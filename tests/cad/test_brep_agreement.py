@@ -8,7 +8,7 @@ import Part
 import pytest
 
 from random_layouts import random_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.engines import wafer_edges
 from waferscan.core.geometry import beam_hits_wafer
 from waferscan.core.scan import scan_layout

@@ -15,21 +15,12 @@ from waferscan.cad.builder import build_document
 from waferscan.cad.disc import NotADisc, disc_of
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.errors import InputError
 from waferscan.core.scan import scan_layout
 from waferscan.core.scenario import read_scenario
 
 PAPER = read_scenario(paper_scenario())
-
-
-@pytest.fixture
-def paper_doc():
-    doc = build_document(PAPER, "PaperTest")
-    name = doc.Name
-    yield doc
-    if name in App.listDocuments():
-        App.closeDocument(name)
 
 
 def assert_same_layout(read, original):

@@ -112,7 +112,7 @@ def test_crosscheck_keeps_a_micrometre_where_the_beam_meets_wafers_squarely():
 
 def test_a_square_edge_off_by_two_micrometres_is_not_confirmed():
     sys.path.insert(0, "/usr/lib/freecad-python3/lib")
-    from waferscan.cad.brep import EdgeCheck
+    from waferscan.cad.crosscheck import EdgeCheck
 
     assert not EdgeCheck("W", (300.0, 300.7), (300.0 - 2e-6, 300.7), (1e-7, 1e-7)).ok
     assert EdgeCheck("W", (300.0, 300.7), (300.0 - 2e-6, 300.7), (2.5e-6, 1e-7)).ok
@@ -260,7 +260,7 @@ def test_crosscheck_confirms_random_layouts_with_grazing_edges():
 
     sys.path.insert(0, str(ROOT / "tests"))
     from random_layouts import random_layout
-    from waferscan.cad.brep import crosscheck
+    from waferscan.cad.crosscheck import crosscheck
     from waferscan.cad.builder import build_document
 
     checks = {}

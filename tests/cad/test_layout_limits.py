@@ -9,7 +9,7 @@ import pytest
 
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.errors import InputError
 from waferscan.core.mcs import apply_parameters, parse_parameters
 from waferscan.core.scan import scan_layout
@@ -19,16 +19,7 @@ PAPER_TEXT = paper_scenario().read_text()
 PAPER = read_scenario(paper_scenario())
 
 
-@pytest.fixture
-def paper_doc():
-    doc = build_document(PAPER, "LimitsTest")
-    name = doc.Name
-    yield doc
-    if name in App.listDocuments():
-        App.closeDocument(name)
-
-
-def holder(doc, label):
+def object_labelled(doc, label):
     return doc.getObjectsByLabel(label)[0]
 
 

@@ -12,7 +12,7 @@ from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import DocumentScene, read_layout
 from waferscan.cad.robot import RobotMover
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.model import RobotSpec
 from waferscan.core.scan import scan_layout
 from waferscan.core.scenario import read_scenario

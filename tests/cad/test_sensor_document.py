@@ -125,7 +125,7 @@ def test_settings_made_without_the_sensor_properties_read_as_the_ideal_sensor():
 def test_crosscheck_of_a_spot_layout_confirms_its_line_beam(tmp_path):
     # At threshold 0.1 a 1 mm spot's runs start below the wafers, where the line is clear:
     # crosscheck judges the geometry, the line beam's edges, and confirms them.
-    from waferscan.cad.brep import crosscheck
+    from waferscan.cad.crosscheck import crosscheck
 
     layout = replace(PAPER, robot=None, spot=BeamSpot(diameter=1.0), amplifier=Amplifier(0.1))
     doc = build_document(layout, "SpotCheck")

@@ -12,7 +12,7 @@ from waferscan.cad import mcs_watch
 from waferscan.cad.layout_files import open_layout
 from waferscan.cad.mcs_watch import document_scanner
 from waferscan.core.mcs_link import McsLink
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 
 CODE = "1101221001220001010000010"
 

@@ -200,7 +200,7 @@ def test_soak_of_the_real_watcher_memory_flat(tmp_path, engine, count, limit_kib
 
 
 def test_the_layout_file_is_opened_again_when_it_changes(tmp_path):
-    from waferscan.cli import paper_scenario
+    from waferscan.addon import paper_scenario
     layout = tmp_path / "layout.toml"
     text = paper_scenario().read_text()
     layout.write_text(text)

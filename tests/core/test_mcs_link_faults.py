@@ -12,7 +12,7 @@ from waferscan.core import mcs_link
 from waferscan.core.mcs_link import FolderBusy, McsLink, answered_seq
 from waferscan.core.scan import scan_layout
 from waferscan.core.scenario import read_scenario
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 
 RESULT = scan_layout(read_scenario(paper_scenario()))
 

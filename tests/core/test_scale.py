@@ -10,7 +10,7 @@ import pytest
 
 from random_layouts import random_layout
 from waferscan.bench import fab_layout, stack_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.engines import StepHits, loop_engine, run_engine, vector_engine
 from waferscan.core.geometry import accessible, accessible_wafers
 from waferscan.core.scan import scan_layout

@@ -4,7 +4,7 @@ from dataclasses import replace
 
 import pytest
 
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.scan import scan_layout
 from waferscan.core.scenario import read_scenario
 

@@ -14,7 +14,7 @@ import FreeCADGui as Gui  # noqa: E402
 def messages():
     from waferscan.gui import commands
     from waferscan.gui.qt import alive
-    shown = [m for m in commands._session["messages"] if alive(m) and m.isVisible()]
+    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
     texts = [box.text() for box in shown]
     for box in shown:
         box.close()
@@ -46,7 +46,7 @@ def begin():
     Gui.runCommand("WaferScan_RunScan")
     result["no_wafers"] = messages()
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     panel.speed.setValue(panel.speed.minimum())
     wait_for("the scan's end", lambda: panel.animation.ended, done)
 

@@ -22,7 +22,7 @@ def begin():
     Gui.runCommand("WaferScan_NewPaperLayout")
     Gui.runCommand("WaferScan_McsLink")
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     state["panel"] = panel
     result["panel_shown"] = Gui.Control.activeDialog()
     result["folder_from_preferences"] = panel.folder.text()
@@ -96,7 +96,7 @@ def after_stop():
     # One task panel at a time: a scan started while the link watches ends the watching.
     Gui.runCommand("WaferScan_McsLink")
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     second = FOLDER / "second"
     second.mkdir()
     panel.set_folder(str(second))
@@ -112,7 +112,7 @@ def after_stop():
     result["watching_before_scan"] = panel.start()
     Gui.runCommand("WaferScan_RunScan")
     result["watching_after_scan"] = panel.watching
-    commands._session["panel"].reject()
+    commands.session.task_panel.reject()
     finish()
 
 

@@ -47,7 +47,7 @@ def messages():
     """Texts of the (non-blocking) message boxes shown since the last call; they are closed."""
     from waferscan.gui import commands
     from waferscan.gui.qt import alive
-    shown = [m for m in commands._session["messages"] if alive(m) and m.isVisible()]
+    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
     texts = [box.text() for box in shown]
     for box in shown:
         box.close()
@@ -203,7 +203,7 @@ def begin():
     Gui.runCommand("WaferScan_RunScan")
     result["carrier_question"] = questions[-1]
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     state["doc"], state["panel"] = doc, panel
     result["merged_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
     panel.animation.pause()
@@ -224,11 +224,11 @@ def merged_done():
     result["merged_range"] = [commands.last_result(doc).layout.scan.start_z,
                               commands.last_result(doc).layout.scan.final_z]
     Gui.runCommand("WaferScan_Results")  # opens while the panel is open
-    result["results_opened_with_panel"] = [d.windowTitle() for d in commands._session["dialogs"]]
+    result["results_opened_with_panel"] = [d.windowTitle() for d in commands.session.dialogs]
     Gui.ActiveDocument.ActiveView.viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
     window_shot("gui-own-cell.png", dock_width=264)
-    for dialog in commands._session["dialogs"]:
+    for dialog in commands.session.dialogs:
         dialog.close()
     doc.saveAs(os.path.join(FOLDER, "merged-cell.FCStd"))
     Gui.Control.closeDialog()
@@ -257,7 +257,7 @@ def link_group():
     Gui.runCommand("WaferScan_RunScan")
     result["link_errors"] = messages()
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     state["sensor_colour"] = colour
     result["link_running_look"] = look(doc, panel) + [tuple(sensor_view(doc).ShapeColor) == colour]
     state["doc"], state["panel"] = doc, panel
@@ -275,15 +275,15 @@ def link_done():
     result["console_calls"] = [line.strip().lstrip(">").strip()
                                for line in consoles[0].toPlainText().splitlines()
                                if "waferscan.gui.commands." in line] if consoles else None
-    result["link_after_look"] = look(doc, commands._session["panel"]) + [
+    result["link_after_look"] = look(doc, commands.session.task_panel) + [
         tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))
     Gui.Control.closeDialog()
-    for dialog in commands._session["dialogs"]:
+    for dialog in commands.session.dialogs:
         dialog.close()
     # Stopped: the commands stay enabled.
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     panel.speed.setValue(600.0)  # seconds: slow
     panel.stop_button.click()
     result["stopped_status"] = panel.status.text()
@@ -293,8 +293,8 @@ def link_done():
 def after_stop():
     from waferscan.gui import commands
     Gui.runCommand("WaferScan_Results")
-    result["results_after_stop"] = len(commands._session["dialogs"])
-    for dialog in commands._session["dialogs"]:
+    result["results_after_stop"] = len(commands.session.dialogs)
+    for dialog in commands.session.dialogs:
         dialog.close()
     # The MCS link panel, open for hours: the commands stay enabled too.
     Gui.Control.closeDialog()
@@ -312,9 +312,9 @@ def close_mcs():
     # The document closed while its scan runs: the panel ends and closes, without errors; its
     # results table too.
     Gui.runCommand("WaferScan_Results")
-    state["table"] = commands._session["dialogs"][0]
+    state["table"] = commands.session.dialogs[0]
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     panel.speed.setValue(600.0)  # seconds: slow
     state["closing"] = panel
     wait_for("a few frames", lambda: panel.animation.k > 5, close_during_scan)

@@ -23,7 +23,7 @@ def begin():
     result["document"] = App.ActiveDocument.Name
     Gui.runCommand("WaferScan_RunScan")
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     state["panel"], state["animation"] = panel, panel.animation
     result["task_panel_shown"] = Gui.Control.activeDialog()
     panel.speed.setValue(120.0)  # slow for now (seconds for the whole scan): a pause lands mid-scan
@@ -75,12 +75,12 @@ def after_animation():
     result["see_through_after"] = [carrier.ViewObject.Transparency,
                                    panel.animation.beam.ViewObject.LineWidth]
     result["panel_status"] = panel.status.text()
-    wait_for("the results dialogs", lambda: len(commands._session["dialogs"]) == 2, dialogs)
+    wait_for("the results dialogs", lambda: len(commands.session.dialogs) == 2, dialogs)
 
 
 def dialogs():
     from waferscan.gui import commands
-    table, dialog = commands._session["dialogs"]
+    table, dialog = commands.session.dialogs
     Gui.updateGui()
     result["rows"] = table.rows()
     csv_path = os.environ["WAFERSCAN_GUI_SAVE"].replace(".FCStd", ".csv")
@@ -110,7 +110,7 @@ def dialogs():
     check = commands.cross_check(App.ActiveDocument)
     result["crosscheck_ok"] = check.ok
     result["crosscheck_deviation"] = check.largest_deviation
-    result["crosscheck_box"] = commands._session["dialogs"][0].text()
+    result["crosscheck_box"] = commands.session.dialogs[0].text()
     later(fault_during_animation, 100)
 
 
@@ -134,7 +134,7 @@ def delete_a_link():
 def after_fault():
     from waferscan.gui import commands
     animation = state["fault_animation"]
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     result["fault"] = animation.fault
     result["fault_completed"] = animation.completed
     result["fault_status"] = panel.status.text()

@@ -110,7 +110,7 @@ def mcs_without_folder():
     Gui.runCommand("WaferScan_NewPaperLayout")
     Gui.runCommand("WaferScan_McsLink")
     from waferscan.gui import commands
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     result["mcs_folder_shown"] = panel.folder.text()
     asked = []
     choose_folder(None, asked)

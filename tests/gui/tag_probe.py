@@ -109,7 +109,7 @@ def begin():
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
     state["doc"] = doc
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     result["speed_from_preferences"] = panel.speed.value()
     wait_for("the animation's end", lambda: panel.animation.ended, scanned)
 
@@ -132,7 +132,7 @@ def message_boxes():
     """The texts of the message boxes shown, which are then closed."""
     from waferscan.gui import commands
     from waferscan.gui.qt import alive
-    shown = [m for m in commands._session["messages"] if alive(m) and m.isVisible()]
+    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
     texts = [box.text() for box in shown]
     for box in shown:
         box.close()
@@ -163,7 +163,7 @@ def edits(doc, settings):
     settings.ZStep = 0.0
     settings.Direction = "down"
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands._session["panel"]
+    panel = commands.session.task_panel
     result["exact_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
     result["exact_first_z"] = None
     panel.animation.moved.connect(
@@ -179,17 +179,17 @@ def after_exact(doc):
     result["exact_completed"] = panel.animation.completed
     result["exact_code"] = commands.last_result(doc).code
     Gui.Control.closeDialog()
-    for dialog in commands._session["dialogs"]:
+    for dialog in commands.session.dialogs:
         dialog.close()
     # A wafer deleted after the scan: the results table and the cross-check see the document
     # as it is now.
     doc.removeObject("Wafer3")
     doc.recompute()
     Gui.runCommand("WaferScan_Results")
-    table = commands._session["dialogs"][0]
+    table = commands.session.dialogs[0]
     result["rows_after_delete"] = table.rows()
     Gui.runCommand("WaferScan_CrossCheck")
-    result["crosscheck_after_delete"] = commands._session["dialogs"][0].text()
+    result["crosscheck_after_delete"] = commands.session.dialogs[0].text()
     QtGui.QApplication.clipboard().clear()
     finish()
 

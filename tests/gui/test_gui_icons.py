@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 
 from waferscan.cad.layout_files import opened_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 
 PROBE = Path(__file__).resolve().with_name("icons_probe.py")
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.cad.brep import crosscheck
+from waferscan.cad.crosscheck import crosscheck
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.layout_files import opened_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.mapping import E87
 
 REPO = Path(__file__).resolve().parents[2]

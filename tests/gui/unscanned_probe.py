@@ -21,13 +21,13 @@ def begin():
 
 def after_animation():
     from waferscan.gui import commands
-    result["panel_status"] = commands._session["panel"].status.text()
-    wait_for("the results dialogs", lambda: len(commands._session["dialogs"]) == 2, dialogs)
+    result["panel_status"] = commands.session.task_panel.status.text()
+    wait_for("the results dialogs", lambda: len(commands.session.dialogs) == 2, dialogs)
 
 
 def dialogs():
     from waferscan.gui import commands
-    table, code = commands._session["dialogs"]
+    table, code = commands.session.dialogs
     result["rows"] = table.rows()
     result["state_colours"] = [list(table.table.item(r, 6).background().color().getRgb()[:3])
                                for r in range(table.table.rowCount())]

@@ -7,11 +7,13 @@ import math
 
 import Part
 
+from ..core.errors import ShapeError
+
 ANGLE_TOLERANCE = 1e-9  # on unit vectors: sines and cosines
 VOLUME_TOLERANCE = 1e-6  # relative
 
 
-class NotADisc(ValueError):
+class NotADisc(ShapeError):
     """The shape is not a solid disc; the message says why."""
 
 

@@ -10,53 +10,16 @@ from __future__ import annotations
 
 import FreeCAD as App
 
-from ..core.engines import CAD_ENGINES, StepHits, reachable_wafers, runs_from_blocked
+from ..core.engines import CAD_ENGINES
 from ..core.geometry import beam_hits_wafer
 from ..core.mcs import apply_parameters
-from ..core.model import Beam, Wafer, unit
+from ..core.model import Wafer
 from ..core.scan import scan_layout
-from . import roles
 from .reader import DocumentScene, read_layout
+from .stepping import mover_for, stepper_through_document
 
 
-class ScannerMover:
-    """Moves a scanner that no robot carries along the lift axis by setting its Placement, and
-    puts it back afterwards."""
-
-    def __init__(self, instance, lift_axis):
-        self.obj = instance.obj
-        self.original = App.Placement(self.obj.Placement)
-        start = instance.placement()
-        # The placement of whatever contains the scanner, so that a global move can be written
-        # into the scanner's own (local) Placement.
-        self.parent_inverse = start.multiply(self.original.inverse()).inverse()
-        self.start = start
-        emitter = App.Vector(roles.role_holder(instance.obj).Emitter)
-        self.z0 = start.multVec(emitter).z
-        self.axis = App.Vector(*lift_axis)
-
-    def move_to(self, z):
-        """Put the emitter at scan position z."""
-        moved = App.Placement(self.start)
-        moved.Base = self.start.Base + self.axis * ((z - self.z0) / self.axis.z)
-        self.obj.Placement = self.parent_inverse.multiply(moved)
-
-    def restore(self):
-        self.obj.Placement = self.original
-
-    def moved_objects(self):
-        return [self.obj]
-
-
-def mover_for(scene, layout):
-    """What moves the scanner for this document: its robot's lift joint, or its placement."""
-    if scene.robots:
-        from .robot import RobotMover  # pinocchio is imported only when a robot is there
-        return RobotMover(scene, layout)
-    return ScannerMover(scene.scanner(), layout.lift_axis)
-
-
-class _LocalDisc:
+class _WaferInItsFrame:
     """A wafer instance's disc in its own frame, so each step can place it from the placement
     read back through the document."""
 
@@ -67,7 +30,8 @@ class _LocalDisc:
         self.center = inverse.multVec(App.Vector(*wafer.center))
         self.normal = inverse.Rotation.multVec(App.Vector(*wafer.normal))
 
-    def read(self):
+    def wafer_now(self):
+        """The wafer where its instance's placement puts it now (global coordinates)."""
         placement = self.instance.placement()
         c = placement.multVec(self.center)
         # FreeCAD 0.20 leaks ~80 B on each Placement.Rotation (and vector property) access:
@@ -79,62 +43,14 @@ class _LocalDisc:
                      self.wafer.thickness, bow=self.wafer.bow)
 
 
-def read_beam(instance, ends=None):
-    """The beam as the scanner's placement in the document puts it now. ``ends``: the
-    scanner's (Emitter, Receiver) read once for a whole scan (each read of a vector property
-    leaks a little in FreeCAD 0.20)."""
-    if ends is None:
-        holder = roles.role_holder(instance.obj)
-        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
-    placement = instance.placement()
-    e = placement.multVec(ends[0])
-    r = placement.multVec(ends[1])
-    return Beam((e.x, e.y, e.z), unit(r - e), (r - e).Length)
-
-
-def stepper_through_document(scene, mover, prepare):
-    """A stepped engine that goes through the document: for each scan position, move the
-    scanner (or the robot's lift joint), read the beam back, and ask ``hits(beam)`` for the
-    indices of the wafers it meets. ``prepare(layout, reachable)`` returns ``hits``; reachable
-    are the wafers that pass the accessibility check."""
-
-    def stepper(layout, progress=None):
-        scan = layout.scan
-        if scan.exact:
-            raise ValueError("z_step = 0 (exact edges) is only offered by the analytic engine")
-        hits = prepare(layout, reachable_wafers(layout))
-        scanner = scene.scanner()
-        holder = roles.role_holder(scanner.obj)
-        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
-        count = scan.position_count
-        first = [None] * len(layout.wafers)
-        last = [None] * len(layout.wafers)
-        blocked = [False] * count
-        try:
-            for k in range(count):
-                mover.move_to(scan.position(k))
-                for i in hits(read_beam(scanner, ends)):
-                    blocked[k] = True
-                    first[i] = k if first[i] is None else first[i]
-                    last[i] = k
-                if progress is not None and k % 500 == 0:
-                    progress(k, count)
-        finally:
-            mover.restore()
-        steps = tuple(None if f is None else (f, l) for f, l in zip(first, last))
-        return StepHits(count, steps, runs_from_blocked(blocked))
-
-    return stepper
-
-
 def document_stepper(scene, mover):
     """The ``document`` engine: the paper's procedure through the document API, every wafer's
     placement read back at every step and tested exactly."""
 
     def prepare(layout, reachable):
-        discs = {i: _LocalDisc(scene.wafers[i], layout.wafers[i]) for i in reachable}
-        return lambda beam: [i for i, disc in discs.items()
-                             if beam_hits_wafer(beam.emitter, beam, disc.read())]
+        framed = {i: _WaferInItsFrame(scene.wafers[i], layout.wafers[i]) for i in reachable}
+        return lambda beam: [i for i, wafer in framed.items()
+                             if beam_hits_wafer(beam.emitter, beam, wafer.wafer_now())]
 
     return stepper_through_document(scene, mover, prepare)
 
@@ -165,6 +81,6 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
         if engine == "document":
             stepper = document_stepper(scene, mover)
         else:
-            from .brep import brep_stepper
+            from .brep import brep_stepper  # Part's B-rep tools load only for this engine
             stepper = brep_stepper(scene, mover)
     return scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)

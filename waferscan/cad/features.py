@@ -4,6 +4,11 @@ properties; everything it knows lives in properties, so it survives save and rel
 
 Proxy state, FreeCAD quirk: 0.20 saves a proxy through ``__getstate__``/``__setstate__``, 0.21
 and later prefer ``dumps``/``loads``. Both are defined here, once, in ``_Proxy``.
+
+Versions (as freecad.gears does): each object carries the version of its proxy's properties
+(``WaferScanVersion``). When a proxy's properties change, raise its ``version`` and add to its
+``migrations`` the step that brings an object saved at the version before up to date; opening
+a document runs the steps its objects need (``_Proxy.onDocumentRestored``).
 """
 
 from __future__ import annotations
@@ -12,6 +17,7 @@ import FreeCAD as App
 import Part
 
 from ..core.model import DIRECTIONS, MODES
+from ..core.rules import stored_thickness_tolerance
 from . import roles
 
 
@@ -60,12 +66,60 @@ def _give_view_provider(obj, restored=False):
         obj.ViewObject.Proxy = 0
 
 
+VERSION_PROPERTY = "WaferScanVersion"
+
+
+def saved_version(obj):
+    """The version of its proxy's properties the object was made or last migrated at; 0 for one
+    saved before objects carried a version."""
+    return getattr(obj, VERSION_PROPERTY, 0) if VERSION_PROPERTY in obj.PropertiesList else 0
+
+
+def _set_version(obj, version):
+    roles.add_property(obj, "App::PropertyInteger", VERSION_PROPERTY,
+                       "Version of WaferScan's properties on this object (for migrations)")
+    obj.setEditorMode(VERSION_PROPERTY, 2)  # hidden: the user has nothing to do with it
+    if getattr(obj, VERSION_PROPERTY) != version:
+        setattr(obj, VERSION_PROPERTY, version)
+
+
+def rename_property(obj, old, new):
+    """A migration step: the property ``old`` becomes ``new`` (same type, group and tooltip),
+    keeping its value; nothing happens when ``old`` is gone already."""
+    if old not in obj.PropertiesList:
+        return
+    if new not in obj.PropertiesList:
+        obj.addProperty(obj.getTypeIdOfProperty(old), new, obj.getGroupOfProperty(old),
+                        obj.getDocumentationOfProperty(old))
+        if obj.getTypeIdOfProperty(old) == "App::PropertyEnumeration":
+            setattr(obj, new, obj.getEnumerationsOfProperty(old))
+    setattr(obj, new, getattr(obj, old))
+    obj.removeProperty(old)
+
+
 class _Proxy:
-    """Base of WaferScan's feature proxies: nothing but a type to save."""
+    """Base of WaferScan's feature proxies: a type to save, and the version of its properties.
+
+    ``version``: raise it when the subclass's properties change. ``migrations``: {version: step}
+    where ``step(obj)`` brings an object saved at ``version`` to ``version + 1``."""
+
+    version = 1
+    migrations = {}
 
     def __init__(self, obj):
         obj.Proxy = self
+        _set_version(obj, self.version)
         _give_view_provider(obj)
+
+    def migrate(self, obj):
+        """Bring an object saved at an older version up to this proxy's (run on restore)."""
+        saved = saved_version(obj)
+        for version in range(saved, self.version):
+            step = self.migrations.get(version)
+            if step is not None:
+                step(obj)
+        if saved != self.version:
+            _set_version(obj, self.version)
 
     def dumps(self):
         return {"type": type(self).__name__}
@@ -78,6 +132,7 @@ class _Proxy:
 
     def onDocumentRestored(self, obj):
         obj.Proxy = self
+        self.migrate(obj)
         # A document built headless has no view providers saved: the GUI gives them now.
         _give_view_provider(obj, restored=True)
 
@@ -183,7 +238,7 @@ def make_settings(doc, scan, mapping, carrier):
     obj.Direction = scan.direction
     roles.add_property(obj, "App::PropertyFloat", "ThicknessTolerance",
                        "Wafer thickness tolerance in mm; negative: half the nominal thickness",
-                       -1.0 if mapping.thickness_tolerance is None else mapping.thickness_tolerance)
+                       stored_thickness_tolerance(mapping.thickness_tolerance))
     roles.add_property(obj, "App::PropertyString", "Carrier", "Name (label) of the carrier to scan",
                        carrier or "")
     from . import slow_scan_properties  # SPEC §13: Jab, Sweep and the arm's motion

@@ -15,6 +15,8 @@ import FreeCAD as App
 
 from ..core import schema, validation
 from ..core.errors import InputError
+from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem,
+                           thickness_tolerance_from_stored)
 from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
                           unit)
 from . import roles
@@ -83,11 +85,13 @@ def wafer_from(instance, name):
 
 
 def carrier_from(instance):
-    holder = roles.role_holder(instance.obj)
-    anchor = instance.placement().multiply(holder.SlotOrigin)
+    """The core Carrier of a carrier instance: its slots from its role's properties (those of
+    the object the role is on, the link's target for a link), placed where the instance is."""
+    role_object = roles.role_holder(instance.obj)
+    anchor = instance.placement().multiply(role_object.SlotOrigin)
     back = anchor.Rotation.multVec(App.Vector(0, 1, 0))
     norm = math.hypot(back.x, back.y) or float("nan")  # standing on edge: validation refuses
-    label = holder.Label if instance.obj is holder else instance.obj.Label
+    label = role_object.Label if instance.obj is role_object else instance.obj.Label
     try:
         schema.carrier_name(label)
     except ValueError as exc:
@@ -95,18 +99,24 @@ def carrier_from(instance):
                          f"{instance.path}: {exc}; rename it") from None
     return Carrier(
         name=label,
-        slot_count=int(holder.SlotCount), pitch=_value(holder.Pitch),
+        slot_count=int(role_object.SlotCount), pitch=_value(role_object.Pitch),
         first_slot_z=anchor.Base.z, center=(anchor.Base.x, anchor.Base.y),
-        wafer_diameter=_value(holder.WaferDiameter), wafer_thickness=_value(holder.WaferThickness),
-        front=(-back.x / norm, -back.y / norm), support_span=_value(holder.SupportSpan))
+        wafer_diameter=_value(role_object.WaferDiameter),
+        wafer_thickness=_value(role_object.WaferThickness),
+        front=(-back.x / norm, -back.y / norm), support_span=_value(role_object.SupportSpan))
 
 
-def beam_from(instance):
-    """The beam of a scanner instance, in global coordinates."""
-    holder = roles.role_holder(instance.obj)
+def beam_from(instance, ends=None):
+    """The beam of a scanner instance, in global coordinates, as its placement in the document
+    puts it now; an InputError when its emitter and receiver coincide. ``ends``: the scanner's
+    (Emitter, Receiver) when read once for a whole scan (each read of a vector property leaks a
+    little in FreeCAD 0.20)."""
+    if ends is None:
+        holder = roles.role_holder(instance.obj)
+        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
     placement = instance.placement()
-    emitter = placement.multVec(App.Vector(holder.Emitter))
-    receiver = placement.multVec(App.Vector(holder.Receiver))
+    emitter = placement.multVec(ends[0])
+    receiver = placement.multVec(ends[1])
     length = (receiver - emitter).Length
     if length == 0.0:
         raise InputError(document_source(instance.root.Document), None,
@@ -155,7 +165,7 @@ def _settings(scene, beam, carriers):
 
     scan = slow_scan_properties.read(obj, scan, scene.error)
     tolerance = float(obj.ThicknessTolerance)
-    mapping = MappingTolerances(thickness_tolerance=None if tolerance < 0 else tolerance,
+    mapping = MappingTolerances(thickness_tolerance=thickness_tolerance_from_stored(tolerance),
                                 **{k: v for k, v in values.items()
                                    if k in MappingTolerances.__dataclass_fields__})
     return scan, mapping, obj.Carrier or None
@@ -175,9 +185,10 @@ def read_layout(doc, scene=None):
     names = [c.name for c in carriers]
     if not carriers:
         raise scene.error("no carrier: tag one with the carrier role")
-    if chosen is None and len(carriers) > 1:
+    problem = carrier_choice_problem(names, chosen)
+    if problem == SEVERAL_CARRIERS:
         raise scene.error(f"several carriers ({', '.join(names)}): set ScanSettings.Carrier")
-    if chosen is not None and chosen not in names:
+    if problem:
         raise scene.error(f"ScanSettings.Carrier is {chosen!r}, but the carriers are "
                           f"{', '.join(names)}")
     # The scan starts at StartZ: the beam as it stands is moved along the lift axis to there.

@@ -1,13 +1,15 @@
 """Roles on document objects: which object is a wafer, a carrier, the scanner, the robot or the
 scan settings. A role is a set of properties in the "WaferScan" group, so any object can carry
 one, the solids of an imported STEP assembly included; the objects WaferScan builds itself
-carry them too (see ``features``)."""
+carry them too (see ``features``). Each role's properties, with types and units, are listed in
+``role_properties``."""
 
 from __future__ import annotations
 
 import FreeCAD as App
 
 from ..core.scenario import SUPPORT_OVERLAP
+from . import role_properties
 from .disc import NotADisc, disc_of
 
 GROUP = "WaferScan"
@@ -38,6 +40,12 @@ def add_property(obj, kind, name, doc, value=None):
         setattr(obj, name, value)
 
 
+def add_role_properties(obj, properties, values):
+    """Add a role's properties (``role_properties``' table) with their ``values`` by name."""
+    for prop in properties:
+        add_property(obj, prop.kind, prop.name, prop.tip, values[prop.name])
+
+
 def set_role(obj, role):
     add_property(obj, "App::PropertyString", ROLE, "What WaferScan takes this object for", role)
     obj.setEditorMode(ROLE, 1)  # read-only in the property editor
@@ -61,18 +69,12 @@ def tag_carrier(obj, slot_count=25, pitch=10.0, wafer_diameter=300.0, wafer_thic
     object's own frame, with X across the carrier (left to right), -Y out of its opening towards
     the robot and Z up; by default the object's origin."""
     set_role(obj, CARRIER)
-    add_property(obj, "App::PropertyInteger", "SlotCount", "Number of slots", slot_count)
-    add_property(obj, "App::PropertyLength", "Pitch", "Distance between slots", pitch)
-    add_property(obj, "App::PropertyLength", "WaferDiameter", "Nominal wafer diameter",
-                 wafer_diameter)
-    add_property(obj, "App::PropertyLength", "WaferThickness", "Nominal wafer thickness",
-                 wafer_thickness)
-    add_property(obj, "App::PropertyLength", "SupportSpan",
-                 "Distance between the left and right slot supports' inner edges",
-                 wafer_diameter - 2 * SUPPORT_OVERLAP if support_span is None else support_span)
-    add_property(obj, "App::PropertyPlacement", "SlotOrigin",
-                 "Slot 1's seat centre in this object's frame (X across, -Y to the opening)",
-                 slot_origin if slot_origin is not None else App.Placement())
+    add_role_properties(obj, role_properties.CARRIER, {
+        "SlotCount": slot_count, "Pitch": pitch, "WaferDiameter": wafer_diameter,
+        "WaferThickness": wafer_thickness,
+        "SupportSpan": wafer_diameter - 2 * SUPPORT_OVERLAP if support_span is None
+        else support_span,
+        "SlotOrigin": slot_origin if slot_origin is not None else App.Placement()})
 
 
 def tag_scanner(obj, emitter=(0.0, 0.0, 0.0), receiver=(160.0, 0.0, 0.0), lift_axis=(0, 0, 1)):
@@ -80,13 +82,9 @@ def tag_scanner(obj, emitter=(0.0, 0.0, 0.0), receiver=(160.0, 0.0, 0.0), lift_a
     the object's own frame. ``lift_axis`` is the global direction the scan moves it along when no
     robot carries it."""
     set_role(obj, SCANNER)
-    add_property(obj, "App::PropertyVector", "Emitter", "Beam emitter in this object's frame",
-                 App.Vector(*emitter))
-    add_property(obj, "App::PropertyVector", "Receiver", "Beam receiver in this object's frame",
-                 App.Vector(*receiver))
-    add_property(obj, "App::PropertyVector", "LiftAxis",
-                 "Global direction of the scan motion when no robot carries the scanner",
-                 App.Vector(*lift_axis))
+    add_role_properties(obj, role_properties.SCANNER, {
+        "Emitter": App.Vector(*emitter), "Receiver": App.Vector(*receiver),
+        "LiftAxis": App.Vector(*lift_axis)})
 
 
 def solid_count(obj):

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from .geometry import (TOUCH_TOLERANCE, accessible, accessible_wafers, beam_hits_wafer,
                        beam_hits_wafers,
                        paper_beam_hits_wafer, translation_range, wafer_columns)
+from .rules import check_stepped
 
 
 @dataclass(frozen=True)
@@ -65,8 +66,7 @@ def reachable_wafers(layout):
 
 
 def _stepped(layout):
-    if layout.scan.exact:
-        raise ValueError("z_step = 0 (exact edges) is only offered by the analytic engine")
+    check_stepped(layout.scan)
     if layout.scan.final_z < layout.scan.start_z:
         raise ValueError("final_z is below start_z")
 

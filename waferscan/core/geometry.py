@@ -22,18 +22,21 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     The solid is {c + u : 0 <= u.n <= t, |u - (u.n) n| <= R}, grown by ``tol``. Along the beam
     (parameter lam in mm) the thickness band and the radius each allow one interval of lam; the
     beam hits when those and [0, L] overlap.
+
+    A level 300 mm wafer 0.775 mm thick seated at z = 300, and a level beam across it:
+
+    >>> from waferscan.core.model import Beam, Wafer
+    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
+    >>> beam = Beam((-200.0, 0.0, 300.4), (1.0, 0.0, 0.0), 400.0)
+    >>> beam_hits_wafer(beam.emitter, beam, wafer)
+    True
+    >>> beam_hits_wafer((-200.0, 0.0, 301.0), beam, wafer)  # 0.225 mm above the top face
+    False
     """
     if wafer.bow:
         return beam_hits_bowed_wafer(emitter, beam, wafer, tol)  # SPEC §10: not a disc
-    ox, oy, oz = emitter
-    ex, ey, ez = beam.direction
-    cx, cy, cz = wafer.center
-    nx, ny, nz = wafer.normal
-    wx = ox - cx
-    wy = oy - cy
-    wz = oz - cz
-    wn = wx * nx + wy * ny + wz * nz
-    en = ex * nx + ey * ny + ez * nz
+    wn, en, qq, pq, c = _beam_across_wafer(emitter, beam.direction, wafer.center,
+                                           wafer.normal, wafer.radius, tol)
     lo = -tol
     hi = beam.length + tol
     # Thickness band: -tol <= wn + lam*en <= t + tol.
@@ -45,7 +48,28 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
         b = (wafer.thickness + tol - wn) / en
         lo = max(lo, min(a, b))
         hi = min(hi, max(a, b))
-    # Radius: |p + lam*q|^2 <= (R + tol)^2, p and q the parts of w and e across the normal.
+    # Radius: |p + lam*q|^2 <= (R + tol)^2 (see _beam_across_wafer).
+    span = _rim_span(qq, pq, c)
+    if span is None:
+        return False
+    return max(lo, span[0]) <= min(hi, span[1])
+
+
+def _beam_across_wafer(emitter, direction, center, normal, radius, tol):
+    """The beam in the wafer's frame, for the scalar and the numpy test alike (floats or
+    arrays that broadcast; the same operations in the same order, so both give bit-identical
+    answers). With w the emitter's offset from the centre and e the beam's direction:
+    wn = w.n and en = e.n (along the normal); p and q the parts of w and e across the normal,
+    qq = q.q, pq = p.q and c = p.p - (R + tol)^2. Returns (wn, en, qq, pq, c)."""
+    ox, oy, oz = emitter
+    ex, ey, ez = direction
+    cx, cy, cz = center
+    nx, ny, nz = normal
+    wx = ox - cx
+    wy = oy - cy
+    wz = oz - cz
+    wn = wx * nx + wy * ny + wz * nz
+    en = ex * nx + ey * ny + ez * nz
     px = wx - wn * nx
     py = wy - wn * ny
     pz = wz - wn * nz
@@ -54,12 +78,9 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
     qz = ez - en * nz
     qq = qx * qx + qy * qy + qz * qz
     pq = px * qx + py * qy + pz * qz
-    r = wafer.radius + tol
+    r = radius + tol
     c = px * px + py * py + pz * pz - r * r
-    span = _rim_span(qq, pq, c)
-    if span is None:
-        return False
-    return max(lo, span[0]) <= min(hi, span[1])
+    return wn, en, qq, pq, c
 
 
 def _rim_span(qq, pq, c):
@@ -88,13 +109,9 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
     """
     import numpy as np  # only the vector engine needs it; importing it costs ~70 ms
 
-    ex, ey, ez = beam.direction
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        wx = ox - cx
-        wy = oy - cy
-        wz = oz - cz
-        wn = wx * nx + wy * ny + wz * nz
-        en = ex * nx + ey * ny + ez * nz
+        wn, en, qq, pq, c = _beam_across_wafer((ox, oy, oz), beam.direction, (cx, cy, cz),
+                                               (nx, ny, nz), radius, tol)
         lo = np.full(np.broadcast(wn, en).shape, -tol)
         hi = np.full(lo.shape, beam.length + tol)
         en_zero = en == 0.0
@@ -103,16 +120,6 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
         b = (thickness + tol - wn) / en
         lo = np.where(en_zero, lo, np.maximum(lo, np.minimum(a, b)))
         hi = np.where(en_zero, hi, np.minimum(hi, np.maximum(a, b)))
-        px = wx - wn * nx
-        py = wy - wn * ny
-        pz = wz - wn * nz
-        qx = ex - en * nx
-        qy = ey - en * ny
-        qz = ez - en * nz
-        qq = qx * qx + qy * qy + qz * qz
-        pq = px * qx + py * qy + pz * qz
-        r = radius + tol
-        c = px * px + py * py + pz * pz - r * r
         qq_zero = qq == 0.0
         disc = pq * pq - qq * c
         ok &= np.where(qq_zero, c <= 0.0, disc >= 0.0)
@@ -140,7 +147,18 @@ def paper_beam_hits_wafer(emitter, beam, wafer):
     closer than R to the centre? For a beam parallel to the wafer (e.n = 0), equation 2 would
     divide by zero: then s = (r_c - r0).e and the emitter must lie within the thickness band.
     Thickness is otherwise ignored, as in the paper. The band has the touching tolerance of the
-    exact test, so that a face exactly on a step counts the same at the top as at the bottom."""
+    exact test, so that a face exactly on a step counts the same at the top as at the bottom.
+
+    >>> import math
+    >>> from waferscan.core.model import Beam, Wafer
+    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
+    >>> level = Beam((-200.0, 0.0, 300.4), (1.0, 0.0, 0.0), 400.0)
+    >>> paper_beam_hits_wafer(level.emitter, level, wafer)
+    True
+    >>> up = Beam((-400.0, 0.0, 200.0), (math.sqrt(0.5), 0.0, math.sqrt(0.5)), 300.0)
+    >>> paper_beam_hits_wafer(up.emitter, up, wafer)  # meets the mid-plane at x = -299.6
+    False
+    """
     rc = wafer.mid_center
     n = wafer.normal
     e = beam.direction
@@ -161,7 +179,12 @@ def paper_beam_hits_wafer(emitter, beam, wafer):
 
 
 def wafer_bounds(wafer):
-    """Axis-aligned bounds of the wafer solid: ((xmin, ymin, zmin), (xmax, ymax, zmax))."""
+    """Axis-aligned bounds of the wafer solid: ((xmin, ymin, zmin), (xmax, ymax, zmax)).
+
+    >>> from waferscan.core.model import Wafer
+    >>> wafer_bounds(Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775))
+    ((-150.0, -150.0, 300.0), (150.0, 150.0, 300.775))
+    """
     mid = wafer.mid_center
     half = []
     for k in wafer.normal:
@@ -291,6 +314,16 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     faces) and by a conic (the rim). A linear function's extremes over such a region lie at a
     corner of two boundaries, where a line crosses the conic, or where the conic is tangent to a
     line tau = const; all those candidates are listed and the feasible ones kept.
+
+    A level beam 1 mm below a level wafer's bottom face, lifted straight up, meets the wafer
+    from 1 mm to 1.775 mm of travel (grown by the touching tolerance, 1e-9 mm, each way):
+
+    >>> from waferscan.core.model import Beam, Wafer
+    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
+    >>> beam = Beam((-200.0, 0.0, 299.0), (1.0, 0.0, 0.0), 400.0)
+    >>> low, high = translation_range(beam.emitter, beam, (0.0, 0.0, 1.0), wafer)
+    >>> round(low, 6), round(high, 6)
+    (1.0, 1.775)
     """
     if wafer.bow:
         return bowed_translation_range(emitter, beam, axis, wafer, tol)  # SPEC §10

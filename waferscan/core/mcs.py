@@ -18,6 +18,8 @@ from pathlib import Path
 
 from . import schema, sensor_settings, slow_scan, validation
 from .errors import InputError
+from .text_files import read_text
+from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
 
@@ -39,19 +41,6 @@ PARAMETER_KEYS.update(slow_scan.SETTING_KEYS)  # SPEC §13: jab, sweep and the a
 _CARRIER_FIELDS = {"slot_count": "slot_count", "slot_pitch": "pitch",
                    "first_slot_z": "first_slot_z", "wafer_thickness": "wafer_thickness",
                    "wafer_diameter": "wafer_diameter"}
-
-
-def read_text(path):
-    """A text file's contents as str (BOM dropped); an InputError naming the file otherwise."""
-    path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(path, None, f"cannot read: {exc.strerror}") from None
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(path, raw[:exc.start].count(b"\n") + 1, "not UTF-8 text") from None
 
 
 def _content_lines(text):
@@ -117,10 +106,11 @@ def apply_parameters(layout, parameters):
     mapping = replace(layout.mapping, **{k: v[k] for k in schema.MAPPING_KEYS if k in v})
     chosen = v.get("carrier", layout.carrier)
     names = [c.name for c in layout.carriers]
-    if chosen is not None and chosen not in names:
+    problem = carrier_choice_problem(names, chosen)
+    if problem == UNKNOWN_CARRIER:
         raise parameters.error("carrier", f"no carrier named {chosen!r} in the layout "
                                f"(carriers: {', '.join(names)})")
-    if chosen is None and len(names) > 1:
+    if problem == SEVERAL_CARRIERS:
         raise InputError(parameters.source, None,
                          f"the layout has several carriers ({', '.join(names)}): "
                          "say which with carrier = NAME")
@@ -131,7 +121,7 @@ def apply_parameters(layout, parameters):
         carrier = replace(carrier, **nominal)
         layout = replace(layout, carriers=tuple(carrier if c.name == chosen else c
                                                 for c in layout.carriers))
-    if carrier.wafer_thickness >= carrier.pitch:
+    if not thickness_fits_pitch(carrier.wafer_thickness, carrier.pitch):
         # Blame the line that broke it: a new pitch under the layout's own thickness.
         pitch_broke_it = ("slot_pitch" in v and carrier.pitch != before.pitch
                           and carrier.wafer_thickness == before.wafer_thickness)

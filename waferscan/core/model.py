@@ -197,14 +197,16 @@ class Layout:
     @property
     def scanned_carrier(self):
         """The carrier whose slots the code describes."""
+        from .rules import SEVERAL_CARRIERS, carrier_choice_problem
+
+        problem = carrier_choice_problem([c.name for c in self.carriers], self.carrier)
+        if problem == SEVERAL_CARRIERS:
+            raise ValueError("the layout has several carriers: say which one to scan")
+        if problem:
+            raise ValueError(f"no carrier named {self.carrier!r}")
         if self.carrier is None:
-            if len(self.carriers) != 1:
-                raise ValueError("the layout has several carriers: say which one to scan")
             return self.carriers[0]
-        for carrier in self.carriers:
-            if carrier.name == self.carrier:
-                return carrier
-        raise ValueError(f"no carrier named {self.carrier!r}")
+        return next(c for c in self.carriers if c.name == self.carrier)
 
     def emitter_at(self, z):
         """The emitter at scan position z: the start beam translated along the lift axis.

@@ -17,10 +17,13 @@ from __future__ import annotations
 import math
 import re
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 from . import schema, sensor_settings, slow_scan, validation
 from .errors import InputError
+from .text_files import read_text
+from .rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_fits_pitch
 from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
                     unit)
 
@@ -184,42 +187,21 @@ def key_line(text, table, key):
     return _Lines(text.lstrip("\ufeff")).of(table, None, key)
 
 
-def read_scenario(path):
-    """Read a scenario file into a ``Layout``."""
+def read_scenario(path, default_mapping=None):
+    """Read a scenario file into a ``Layout``; ``default_mapping`` as in ``parse_scenario``."""
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(path, None, f"cannot read the scenario: {exc.strerror}") from None
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        raise InputError(path, line, "not UTF-8 text") from None
-    return parse_scenario(text, str(path), folder=path.resolve().parent)
+    text = read_text(path, "the scenario")
+    return parse_scenario(text, str(path), folder=path.resolve().parent,
+                          default_mapping=default_mapping)
 
 
-def parse_scenario(text, source="<scenario>", folder=None):
+def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None):
     """Parse scenario text into a ``Layout``; ``source`` names it in error messages, ``folder``
-    is where relative paths start (the current folder when None)."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
-        line = int(match.group(1)) if match else None
-        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
-        raise InputError(source, line, f"not valid TOML: {message}") from None
+    is where relative paths start (the current folder when None). ``default_mapping``: the
+    ``MappingTolerances`` a scenario without a [mapping] table gets (None: the core's)."""
+    data = _toml(text, source)
     reader = _Reader(source, text, Path(folder) if folder is not None else Path.cwd())
-    for key, value in data.items():
-        if key not in _TABLES:
-            raise reader.error(f"unknown table or key {key!r} (known tables: "
-                               f"{', '.join(sorted(_TABLES))})", key if isinstance(value, (dict, list)) else None,
-                               key=None if isinstance(value, (dict, list)) else key)
-        if key in _ARRAY_TABLES and not (isinstance(value, list)
-                                         and all(isinstance(v, dict) for v in value)):
-            raise reader.error(f"write it as [[{key}]] tables", key)
-        if key not in _ARRAY_TABLES and not isinstance(value, dict):
-            raise reader.error(f"write it as a [{key}] table", key=key)
+    _check_tables(reader, data)
 
     carriers = [_carrier(reader, c, i) for i, c in enumerate(data.get("carrier", []))]
     if not carriers:
@@ -234,25 +216,8 @@ def parse_scenario(text, source="<scenario>", folder=None):
     mapping = MappingTolerances(**{k: reader.value(mapping_data, "mapping", k, check,
                                                    default=getattr(MappingTolerances(), k))
                                    for k, check in schema.MAPPING_KEYS.items()})
-    scan_table = data.get("scan", {})
-    chosen = reader.value(scan_table, "scan", "carrier", schema.carrier_name)
-    if chosen is None:
-        if len(carriers) > 1:
-            raise reader.error(f"several carriers ({', '.join(names)}): say which one to scan "
-                               "with carrier = \"NAME\"", "scan")
-        chosen = carriers[0].name
-    elif chosen not in names:
-        raise reader.error(f"no carrier named {chosen!r} (carriers: {', '.join(names)})",
-                           "scan", key="carrier")
-
-    lift_axis = (0.0, 0.0, 1.0)
-    sensor = data.get("sensor", {})
-    if "lift_axis" in sensor:
-        lift_axis = reader.value(sensor, "sensor", "lift_axis", schema.vector(3, nonzero=True))
-        lift_axis = unit(lift_axis)
-        if lift_axis[2] < 0.1:
-            raise reader.error("the lift axis must point upwards (z component > 0.1 after "
-                               "normalising)", "sensor", key="lift_axis")
+    chosen = _scanned_carrier(reader, data, names)
+    lift_axis = _lift_axis(reader, data)
 
     wafers = _wafers(reader, data, carriers)
     robot = _robot(reader, data["robot"]) if "robot" in data else None
@@ -260,7 +225,61 @@ def parse_scenario(text, source="<scenario>", folder=None):
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
     layout = _sensor_settings(reader, layout, sensor, scan_table)
     _check_layout(reader, layout, len(data.get("wafer", [])))
+    if default_mapping is not None and "mapping" not in data:
+        layout = replace(layout, mapping=default_mapping)
     return layout
+
+
+def _toml(text, source):
+    """The TOML text as data; an InputError with the line tomllib names otherwise."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
+        line = int(match.group(1)) if match else None
+        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
+        raise InputError(source, line, f"not valid TOML: {message}") from None
+
+
+def _check_tables(reader, data):
+    """Only the known tables, each written as a table ([scan]) or an array of them
+    ([[carrier]]) as it must be."""
+    for key, value in data.items():
+        if key not in _TABLES:
+            raise reader.error(f"unknown table or key {key!r} (known tables: "
+                               f"{', '.join(sorted(_TABLES))})", key if isinstance(value, (dict, list)) else None,
+                               key=None if isinstance(value, (dict, list)) else key)
+        if key in _ARRAY_TABLES and not (isinstance(value, list)
+                                         and all(isinstance(v, dict) for v in value)):
+            raise reader.error(f"write it as [[{key}]] tables", key)
+        if key not in _ARRAY_TABLES and not isinstance(value, dict):
+            raise reader.error(f"write it as a [{key}] table", key=key)
+
+
+def _scanned_carrier(reader, data, names):
+    """The name of the carrier to scan: [scan] carrier, or the only carrier (rules'
+    carrier_choice_problem)."""
+    chosen = reader.value(data.get("scan", {}), "scan", "carrier", schema.carrier_name)
+    problem = carrier_choice_problem(names, chosen)
+    if problem == SEVERAL_CARRIERS:
+        raise reader.error(f"several carriers ({', '.join(names)}): say which one to scan "
+                           "with carrier = \"NAME\"", "scan")
+    if problem:
+        raise reader.error(f"no carrier named {chosen!r} (carriers: {', '.join(names)})",
+                           "scan", key="carrier")
+    return chosen or names[0]
+
+
+def _lift_axis(reader, data):
+    """[sensor] lift_axis as a unit vector (vertical when not given); it must climb."""
+    sensor = data.get("sensor", {})
+    if "lift_axis" not in sensor:
+        return (0.0, 0.0, 1.0)
+    lift_axis = unit(reader.value(sensor, "sensor", "lift_axis", schema.vector(3, nonzero=True)))
+    if lift_axis[2] < validation.MIN_LIFT_Z:
+        raise reader.error("the lift axis must point upwards (z component > 0.1 after "
+                           "normalising)", "sensor", key="lift_axis")
+    return lift_axis
 
 
 def _check_layout(reader, layout, free_count):
@@ -315,7 +334,7 @@ def _carrier(reader, data, i):
     pitch = get("pitch", schema.positive, default=10.0)
     diameter = get("wafer_diameter", schema.positive, default=300.0)
     thickness = get("wafer_thickness", schema.positive, default=0.775)
-    if thickness >= pitch:
+    if not thickness_fits_pitch(thickness, pitch):
         raise reader.error(f"wafer_thickness {thickness:g} must be less than the pitch "
                            f"{pitch:g}", "carrier", i, "wafer_thickness")
     front = get("front", schema.vector(2, nonzero=True), default=(0.0, -1.0))
@@ -464,6 +483,43 @@ _WAFER_KEYS = {"carrier", "slot", "state", "name", "center", "normal", "diameter
                "bow"}
 
 
+def _seat_wafer(reader, w, i, by_name, plans):
+    """A [[wafer]] table given as carrier + slot + state: its state put in its carrier's plan
+    ({slot: state}), in place of what the load string put in its slot(s). Returns (carrier
+    name, slot)."""
+    names = list(by_name)
+    carrier_name = reader.value(w, "wafer", "carrier", schema.carrier_name, index=i)
+    problem = carrier_choice_problem(names, carrier_name)
+    if problem == SEVERAL_CARRIERS:
+        raise reader.error("several carriers: say which with carrier = \"NAME\"", "wafer", i)
+    if problem:
+        raise reader.error(f"no carrier named {carrier_name!r}", "wafer", i, "carrier")
+    carrier_name = carrier_name or names[0]
+    carrier = by_name[carrier_name]
+    slot = reader.value(w, "wafer", "slot", schema.count, index=i, required=True)
+    if slot > carrier.slot_count:
+        raise reader.error(f"slot {slot} is beyond the carrier's {carrier.slot_count} "
+                           "slots", "wafer", i, "slot")
+    state = reader.value(w, "wafer", "state", schema.choice(WAFER_STATES), index=i,
+                         default="present")
+    if state == "cross" and slot == carrier.slot_count:
+        raise reader.error(f"a cross-slotted wafer in slot {slot} needs a slot above",
+                           "wafer", i, "slot")
+    for key in ("center", "normal", "diameter", "thickness", "name"):
+        if key in w:
+            raise reader.error("give either carrier + slot + state, or a free "
+                               "placement (center, normal, diameter, thickness)",
+                               "wafer", i, key)
+    plan = plans[carrier_name]
+    # An explicit wafer replaces what the load string put in its slot(s).
+    for other, other_state in list(plan.items()):
+        if other == slot or (other_state == "cross" and other + 1 == slot) or (
+                state == "cross" and other == slot + 1):
+            del plan[other]
+    plan[slot] = state
+    return carrier_name, slot
+
+
 def _wafers(reader, data, carriers):
     by_name = {c.name: c for c in carriers}
     plans = {c.name: {} for c in carriers}  # carrier -> {slot: state}
@@ -480,35 +536,7 @@ def _wafers(reader, data, carriers):
     for i, w in enumerate(data.get("wafer", [])):
         reader.table(w, "wafer", _WAFER_KEYS, i)
         if "slot" in w or "state" in w:
-            carrier_name = reader.value(w, "wafer", "carrier", schema.carrier_name, index=i,
-                                        default=carriers[0].name if len(carriers) == 1 else None)
-            if carrier_name is None:
-                raise reader.error("several carriers: say which with carrier = \"NAME\"",
-                                   "wafer", i)
-            if carrier_name not in by_name:
-                raise reader.error(f"no carrier named {carrier_name!r}", "wafer", i, "carrier")
-            carrier = by_name[carrier_name]
-            slot = reader.value(w, "wafer", "slot", schema.count, index=i, required=True)
-            if slot > carrier.slot_count:
-                raise reader.error(f"slot {slot} is beyond the carrier's {carrier.slot_count} "
-                                   "slots", "wafer", i, "slot")
-            state = reader.value(w, "wafer", "state", schema.choice(WAFER_STATES), index=i,
-                                 default="present")
-            if state == "cross" and slot == carrier.slot_count:
-                raise reader.error(f"a cross-slotted wafer in slot {slot} needs a slot above",
-                                   "wafer", i, "slot")
-            for key in ("center", "normal", "diameter", "thickness", "name"):
-                if key in w:
-                    raise reader.error("give either carrier + slot + state, or a free "
-                                       "placement (center, normal, diameter, thickness)",
-                                       "wafer", i, key)
-            plan = plans[carrier_name]
-            # An explicit wafer replaces what the load string put in its slot(s).
-            for other, other_state in list(plan.items()):
-                if other == slot or (other_state == "cross" and other + 1 == slot) or (
-                        state == "cross" and other == slot + 1):
-                    del plan[other]
-            plan[slot] = state
+            carrier_name, slot = _seat_wafer(reader, w, i, by_name, plans)
             if "bow" in w:
                 slot_bows[(carrier_name, slot)] = reader.value(w, "wafer", "bow", schema.number,
                                                                index=i)

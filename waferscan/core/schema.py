@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from .errors import WaferScanError
 from .model import DIRECTIONS, MODES
 
 # A scan is at most this many stepped positions (0.001 mm over 100 m); more is a typo.
@@ -115,7 +116,7 @@ MAPPING_KEYS = {
 }
 
 
-class ScanRangeError(ValueError):
+class ScanRangeError(WaferScanError, ValueError):
     """A scan range that makes no sensible scan; ``key`` is the value to blame: ``z_step`` when
     the range is plausible and the step too fine for it, ``final_z`` otherwise."""
 

@@ -19,6 +19,7 @@ import math
 from typing import NamedTuple
 
 from . import schema
+from .rules import thickness_fits_pitch
 
 MAX_SLOTS = 10_000
 MAX_CARRIERS = 1_000
@@ -90,7 +91,7 @@ def carrier_problems(carrier, index=None):
         add("front", f"must be a finite, non-zero direction, got {_show(tuple(carrier.front))}")
     if found:
         return found
-    if carrier.wafer_thickness >= carrier.pitch:
+    if not thickness_fits_pitch(carrier.wafer_thickness, carrier.pitch):
         add("wafer_thickness", f"wafer_thickness {carrier.wafer_thickness:g} must be less than "
                                f"the pitch {carrier.pitch:g}")
     if carrier.support_span > carrier.wafer_diameter:

@@ -11,7 +11,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from ..cad.document_scan import mover_for
+from ..cad.stepping import mover_for
 from ..cad.reader import DocumentScene
 from ..core.model import DOWN, UPDOWN
 
@@ -36,7 +36,7 @@ class ScanAnimation(QtCore.QObject):
     moved = QtCore.Signal(int, float)
     finished = QtCore.Signal()
 
-    def __init__(self, doc, result, steps_per_frame=10, duration_s=None):
+    def __init__(self, doc, result, steps_per_frame=10, duration_s=None, scene=None):
         super().__init__()
         self.doc, self.result = doc, result
         self.scan = result.layout.scan
@@ -45,8 +45,9 @@ class ScanAnimation(QtCore.QObject):
         # time on any machine (frames are skipped on a slow one); else steps_per_frame a frame.
         self.duration_s = None if duration_s is None else max(0.1, float(duration_s))
         self._clock = (0.0, 0)  # (monotonic time, frame) the clock counts from
-        self._shown = None  # the frame shown last
-        scene = DocumentScene.of(doc)
+        self._frame_shown = None  # the frame shown last
+        # The scene the scan read (DocumentScene), or the document read again (a replay).
+        scene = scene or DocumentScene.of(doc)
         self.mover = mover_for(scene, result.layout)
         self.beam = scene.scanner().obj
         # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
@@ -60,10 +61,12 @@ class ScanAnimation(QtCore.QObject):
         else:
             self.step, self.count = scan.z_step, scan.position_count
         self.frames = 2 * self.count - 1 if scan.direction == UPDOWN else self.count
-        self.wafers = {w.Label: w for w in doc.Objects
-                       if getattr(w, "WaferScanRole", "") == "Wafer"}
-        self.colours = {label: tuple(w.ViewObject.ShapeColor[:3])
-                        for label, w in self.wafers.items() if w.ViewObject}
+        # Each wafer of the result by its name, as the scene walk found it: the object it shows
+        # through links (the one whose colour the 3D view draws).
+        self.wafers = {wafer.name: instance.target
+                       for wafer, instance in zip(result.layout.wafers, scene.wafers)}
+        self.colours = {name: tuple(w.ViewObject.ShapeColor[:3])
+                        for name, w in self.wafers.items() if w.ViewObject}
         self.k = 0  # the frame shown next
         self.z = self.position(0)
         self.completed = False
@@ -190,9 +193,9 @@ class ScanAnimation(QtCore.QObject):
 
     def _tick(self):
         last = self.frames - 1
-        if self.duration_s is not None and self._shown is not None:
+        if self.duration_s is not None and self._frame_shown is not None:
             due = self._due()
-            if due <= self._shown:
+            if due <= self._frame_shown:
                 return  # the clock has not reached the next frame yet
             self.k = min(due, last)
         try:
@@ -210,7 +213,7 @@ class ScanAnimation(QtCore.QObject):
             self._end(fault=f"{type(exc).__name__}: {exc}")
             return
         self.bar.setValue(self.k)
-        self._shown = self.k
+        self._frame_shown = self.k
         self.moved.emit(self.k, self.z)
         if self.k >= last:
             self._end(completed=True)
@@ -260,7 +263,7 @@ class BeamOverlay:
 
         from ..cad import roles
 
-        holder = roles.role_holder(obj)
+        role_object = roles.role_holder(obj)
         self.root = obj.ViewObject.RootNode
         self.node = coin.SoSeparator()
         light = coin.SoLightModel()
@@ -269,7 +272,7 @@ class BeamOverlay:
         style = coin.SoDrawStyle()
         style.lineWidth = 4
         points = coin.SoCoordinate3()
-        points.point.setValues(0, 2, [tuple(holder.Emitter), tuple(holder.Receiver)])
+        points.point.setValues(0, 2, [tuple(role_object.Emitter), tuple(role_object.Receiver)])
         line = coin.SoLineSet()
         line.numVertices.setValue(2)
         for node in (light, self.colour, style, points, line):

@@ -4,30 +4,45 @@ view, and a user's mistake also gets a (non-blocking) message box."""
 
 from __future__ import annotations
 
-import tomllib
 from contextlib import contextmanager
-from dataclasses import replace
 from pathlib import Path
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from ..addon import icon_path
-from ..cad.disc import NotADisc
-from ..core.errors import InputError
+from ..addon import icon_path, paper_scenario
+from ..core.errors import InputError, WaferScanError
 from ..core.model import ScanParameters
 from . import preferences
 from .inputs import format_length
 from .qt import alive
 
-# The last scan of each document (by its Name), the running animation, the open dialogs.
-_session = {"results": {}, "animation": None, "dialogs": [], "messages": []}
+class WorkbenchSession:
+    """What the workbench keeps between commands while FreeCAD runs (one of it: ``session``).
+    Every attribute is here from the start; nothing else holds state between commands."""
+
+    def __init__(self):
+        self.results = {}  # document Name -> the ScanResult of its last Run scan
+        self.animation = None  # the ScanAnimation playing, or played last
+        self.task_panel = None  # our task panel shown last (the scan's or the MCS link's)
+        self.dialogs = []  # what the last results or cross-check command opened
+        self.message_boxes = []  # non-blocking message boxes (errors, hints) not yet closed
+        self.results_windows = {}  # document Name -> {"table" | "code": its results dialog}
+        self.close_watcher = None  # the document observer that closes a closed one's dialogs
+
+    def keep_message_box(self, box):
+        """Keep a non-blocking box alive (Qt would delete it with its last Python reference)."""
+        self.message_boxes = [m for m in self.message_boxes if alive(m)] + [box]
+
+
+session = WorkbenchSession()
 
 
 def last_result(doc=None):
+    """The ScanResult of the document's last Run scan (the active document's), or None."""
     doc = doc or App.ActiveDocument
-    return None if doc is None else _session["results"].get(doc.Name)
+    return None if doc is None else session.results.get(doc.Name)
 
 
 def report_error(message):
@@ -38,7 +53,7 @@ def report_error(message):
     box.setModal(False)
     box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()
-    _session["messages"] = [m for m in _session["messages"] if alive(m)] + [box]
+    session.keep_message_box(box)
     return box
 
 
@@ -51,7 +66,7 @@ def report_info(message, title="WaferScan"):
     box.setModal(False)
     box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()
-    _session["messages"] = [m for m in _session["messages"] if alive(m)] + [box]
+    session.keep_message_box(box)
     return box
 
 
@@ -80,7 +95,7 @@ def transaction(doc, name):
 
 
 def _ours_open():
-    panel = _session.get("panel")
+    panel = session.task_panel
     return panel is not None and panel.is_open()
 
 
@@ -94,13 +109,13 @@ def check_no_other_task_panel():
 def _show_task_panel(panel):
     """Show our panel; ours that is open is shut down first (its animation stopped, its
     watching ended)."""
-    previous = _session.get("panel")
+    previous = session.task_panel
     if previous is not None:
         previous.shut_down()
     if Gui.Control.activeDialog():
         Gui.Control.closeDialog()
     Gui.Control.showDialog(panel)
-    _session["panel"] = panel
+    session.task_panel = panel
     return panel
 
 
@@ -112,13 +127,7 @@ def open_scenario(path):
     from ..cad.builder import build_document
     from ..core.scenario import read_scenario
 
-    layout = read_scenario(path)
-    try:
-        has_mapping = "mapping" in tomllib.loads(Path(path).read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        has_mapping = True  # read_scenario read it; keep what it gave
-    if not has_mapping:
-        layout = replace(layout, mapping=preferences.mapping_tolerances())
+    layout = read_scenario(path, default_mapping=preferences.mapping_tolerances())
     doc = build_document(layout, name=Path(path).stem.replace("-", "_") or "Layout")
     Gui.getDocument(doc.Name).ActiveView.viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
@@ -127,18 +136,19 @@ def open_scenario(path):
     return doc
 
 
-def ensure_settings(doc):
+def ensure_settings(doc, scene=None):
     """A document scanned without a ScanSettings object gets one, as an undoable step the user
     can then edit: the reader's defaults, the preferences' tolerances, and a range that covers
     the windows of the carrier's slots (SPEC §3), wherever the scanner happens to stand. With
-    several carriers tagged, the user chooses the one to scan."""
+    several carriers tagged, the user chooses the one to scan. ``scene``: the document's
+    DocumentScene when already read. Returns the new ScanSettings object, or None."""
     from ..cad import roles
     from ..cad.features import make_settings
     from ..cad.reader import DocumentScene, carrier_from
 
     if any(roles.role_of(o) == roles.SETTINGS for o in doc.Objects):
         return None
-    scene = DocumentScene.of(doc)
+    scene = scene or DocumentScene.of(doc)
     check_tagged(scene)
     carriers = [carrier_from(i) for i in scene.carriers]
     chosen = _choose_carrier(doc, carriers) if len(carriers) > 1 else None
@@ -190,20 +200,20 @@ def _choose_carrier(doc, carriers):
     return carriers[names.index(answer)]
 
 
-def scan(doc):
+def scan_and_store(doc):
     """The headless scan of the document; its results kept in it as a Spreadsheet (one undo
-    step) and for the results commands."""
-    from .results_view import store_in_document
+    step) and for the results commands. Returns the DocumentScene it read and the result."""
+    from ..cad.results_sheet import store_in_document
 
-    result = results_for(doc)
-    _session["results"][doc.Name] = result
+    scene, result = _scan_once(doc)
+    session.results[doc.Name] = result
     with transaction(doc, "WaferScan results"):
         store_in_document(doc, result)
     App.Console.PrintMessage(f"WaferScan: {doc.Label}: slot code {result.code}, "
                              f"{len(result.runs)} sensor runs\n")
     for warning in result.warnings:  # what the result cannot know (SPEC §3)
         App.Console.PrintWarning(f"WaferScan: warning: {warning}\n")
-    return result
+    return scene, result
 
 
 def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_s=None):
@@ -213,26 +223,27 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_
     as fast as the machine draws them) is given."""
     if panel:
         check_no_other_task_panel()
-    result = scan(doc)
+    scene, result = scan_and_store(doc)
     if not result.layout.wafers:
         report_info(f"No wafer in {doc.Label} is tagged, so every slot reads empty. Select the "
                     "wafers and use Tag as wafer, then Run scan again.")
-    return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s)
+    return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s, scene)
 
 
 def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
-              duration_s=None):
-    """Animate ``result`` (a scan of ``doc``), with its task panel unless ``panel`` is False."""
+              duration_s=None, scene=None):
+    """Animate ``result`` (a scan of ``doc``), with its task panel unless ``panel`` is False.
+    ``scene``: the DocumentScene the scan read, unchanged since (None: read the document)."""
     from .animation import ScanAnimation
     from .scan_panel import ScanTaskPanel
 
-    previous = _session["animation"]
+    previous = session.animation
     if previous is not None:
         previous.stop()
     if steps_per_frame is None and duration_s is None:
         duration_s = preferences.playback_seconds()
-    animation = ScanAnimation(doc, result, steps_per_frame or 10, duration_s)
-    _session["animation"] = animation
+    animation = ScanAnimation(doc, result, steps_per_frame or 10, duration_s, scene)
+    session.animation = animation
     # The animation showed this result: its dialogs show it too.
     on_completed = (lambda: show_results_dialogs(doc, result=result)) if show_results else None
     if result.pockets:  # SPEC §13: then the jabs and sweeps, pocket by pocket
@@ -250,15 +261,25 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
     return animation
 
 
-def results_for(doc):
+def result_now(doc):
     """The document's results as it is now: scanned afresh (a millisecond), so that a wafer
     moved or deleted since the last Run scan is seen. Only Run scan stores them."""
-    from ..cad.document_scan import scan_document
-    from ..cad.reader import DocumentScene
+    return _scan_once(doc)[1]
 
-    check_tagged(DocumentScene.of(doc))
-    ensure_settings(doc)
-    return scan_document(doc, "analytic")
+
+def _scan_once(doc):
+    """(scene, result): the document read once (its scene walked, its layout read) and scanned
+    with the analytic engine. Says what to tag when a role is missing; adds ScanSettings when
+    there are none (the scene then read again, to hold them)."""
+    from ..cad.document_scan import scan_document
+    from ..cad.reader import DocumentScene, read_layout
+
+    scene = DocumentScene.of(doc)
+    check_tagged(scene)
+    if ensure_settings(doc, scene) is not None:
+        scene = DocumentScene.of(doc)
+    layout = read_layout(doc, scene)
+    return scene, scan_document(doc, "analytic", read=(scene, layout))
 
 
 DIALOG_TITLES = {"table": "WaferScan results", "code": "WaferScan slot code"}
@@ -271,11 +292,11 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
     from .results_view import ResultsTable, SlotCodeDialog
 
     doc = doc or App.ActiveDocument
-    result = result or results_for(doc)
-    if "closing" not in _session:
-        _session["closing"] = _ClosedDocuments()
-        App.addDocumentObserver(_session["closing"])
-    views = _session.setdefault("views", {}).setdefault(doc.Name, {})
+    result = result or result_now(doc)
+    if session.close_watcher is None:
+        session.close_watcher = _ClosedDocuments()
+        App.addDocumentObserver(session.close_watcher)
+    views = session.results_windows.setdefault(doc.Name, {})
     dialogs = []
     for kind in which:
         dialog = ResultsTable(result, doc) if kind == "table" else SlotCodeDialog(result)
@@ -293,7 +314,7 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
         dialog.show()
         dialog.raise_()
         dialogs.append(dialog)
-    _session["dialogs"] = dialogs
+    session.dialogs = dialogs
     return dialogs
 
 
@@ -301,10 +322,10 @@ class _ClosedDocuments:
     """A document closed: its results dialogs close too (they would point at nothing)."""
 
     def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
-        for dialog in _session.get("views", {}).pop(doc.Name, {}).values():
+        for dialog in session.results_windows.pop(doc.Name, {}).values():
             if alive(dialog):
                 dialog.close()
-        _session["results"].pop(doc.Name, None)
+        session.results.pop(doc.Name, None)
 
 
 def fit_screen(dialog, margin=(40, 80)):
@@ -448,10 +469,10 @@ def _split_and_tag(role, objects, compounds):
 def cross_check(doc):
     """The B-rep cross-check of the document's last scan, reported in the report view and a
     dialog."""
-    from ..cad.brep import crosscheck
+    from ..cad.crosscheck import crosscheck
     from ..core.report import format_crosscheck
 
-    result = results_for(doc)
+    result = result_now(doc)
     QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
     Gui.getMainWindow().statusBar().showMessage("WaferScan: cross-checking with OpenCASCADE…")
     try:
@@ -476,7 +497,7 @@ def cross_check(doc):
     box.setModal(False)
     box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
     box.show()
-    _session["dialogs"] = [box]
+    session.dialogs = [box]
     return check
 
 
@@ -512,7 +533,7 @@ class _Command:
     def Activated(self):
         try:
             self.run()
-        except (InputError, NotADisc) as exc:
+        except WaferScanError as exc:
             report_error(exc)
 
     def IsActive(self):
@@ -524,7 +545,6 @@ class NewPaperLayout(_Command):
     tip = "Build the paper's experiment: a 25-slot FOUP with ten wafers and the robot"
 
     def run(self):
-        from ..cli import paper_scenario
         record(f"open_scenario({str(paper_scenario())!r})")
 
     def IsActive(self):
@@ -536,7 +556,6 @@ class OpenScenario(_Command):
     tip = "Build a layout from a scenario file (.toml)"
 
     def run(self):
-        from ..cli import paper_scenario
         path, _ = QtGui.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Open scenario",
                                                     str(paper_scenario().parent),
                                                     "Scenario (*.toml)")

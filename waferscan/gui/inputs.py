@@ -60,7 +60,7 @@ class LengthField(QtGui.QLineEdit):
     def __init__(self, value_mm=0.0, tooltip="", minimum=0.0, maximum=1e6, parent=None):
         super().__init__(parent)
         self.minimum, self.maximum = minimum, maximum
-        self._exact, self._shown = None, None
+        self._exact, self._text_shown = None, None
         if tooltip:
             self.setToolTip(f"{tooltip} (a length; type a unit for another one: 0.02 in, "
                             "350 um)")
@@ -68,11 +68,11 @@ class LengthField(QtGui.QLineEdit):
 
     def set_mm(self, value_mm):
         self._exact = float(value_mm)
-        self._shown = format_length(self._exact)
-        self.setText(self._shown)
+        self._text_shown = format_length(self._exact)
+        self.setText(self._text_shown)
 
     def edited(self):
-        return self.text() != self._shown
+        return self.text() != self._text_shown
 
     def value_mm(self):
         """The value in mm; ValueError for text that is not a length in range."""
@@ -97,3 +97,22 @@ def set_length(box, value_mm):
 def length_value(box):
     """The field's value in mm (ValueError when the typed text is not a length)."""
     return box.value_mm()
+
+
+def folder_row(field, parent, on_chosen, title="MCS folder", tooltip="Choose the MCS folder"):
+    """A folder's line edit ``field`` with a Browse… button beside it, as one row (a layout).
+    The button opens a folder dialog over ``parent`` at the folder typed, and hands the folder
+    chosen to ``on_chosen(path)``; a cancelled dialog changes nothing."""
+    browse = QtGui.QPushButton("Browse…")
+    browse.setToolTip(tooltip)
+
+    def choose():
+        chosen = QtGui.QFileDialog.getExistingDirectory(parent, title, field.text())
+        if chosen:
+            on_chosen(chosen)
+
+    browse.clicked.connect(choose)
+    row = QtGui.QHBoxLayout()
+    row.addWidget(field, 1)
+    row.addWidget(browse)
+    return row

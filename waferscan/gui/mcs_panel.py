@@ -20,6 +20,7 @@ from ..core.mcs import (COMMANDS, PARAMETERS, apply_parameters, atomic_write_tex
                         format_parameters, parse_parameters)
 from ..core.mcs_link import McsLink, ScanStopped
 from . import preferences
+from .inputs import folder_row
 from .qt import ClosableTaskPanel
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
@@ -69,23 +70,37 @@ class McsTaskPanel(ClosableTaskPanel):
         self.timer.timeout.connect(self.poll)
         self._polling = False
         # The text the panel last put in the editor, and the file's text as last seen.
-        self._shown, self._disk = None, None
+        self._text_put_in_editor, self._text_in_folder = None, None
         self._folder = None
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("WaferScan MCS link")
         self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_McsLink.svg")))
-        # The folder
+        folder_browse_row = self._folder_row(folder)
+        parameters = self._parameters_box()
+        watching = self._watching_box()
+        layout = QtGui.QVBoxLayout(self.form)
+        layout.addWidget(QtGui.QLabel(f"Layout: <b>{doc.Label}</b>"))
+        layout.addWidget(QtGui.QLabel("Folder"))
+        layout.addLayout(folder_browse_row)
+        layout.addWidget(parameters)
+        layout.addWidget(watching, 1)
+        self._folder = self.folder.text()
+        self.load_parameters()
+        self._buttons()
+        self.follow_document(doc)
+
+    # --- building the panel ----------------------------------------------------------------
+
+    def _folder_row(self, folder):
+        """The MCS folder's field (the preferences' folder unless ``folder``) and Browse…."""
         self.folder = QtGui.QLineEdit(str(folder or preferences.mcs_folder()))
         self.folder.setToolTip("The folder where the MCS writes parameters.txt and commands.txt "
                                "and reads results.txt")
-        browse = QtGui.QPushButton("Browse…")
-        browse.setToolTip("Choose the MCS folder")
-        browse.clicked.connect(self._browse)
         self.folder.editingFinished.connect(self._folder_edited)
-        folder_row = QtGui.QHBoxLayout()
-        folder_row.addWidget(self.folder, 1)
-        folder_row.addWidget(browse)
-        # parameters.txt
+        return folder_row(self.folder, self.form, self.set_folder)
+
+    def _parameters_box(self):
+        """parameters.txt: its editor, what is wrong with it, and From layout, Reload, Save."""
         self.editor = QtGui.QPlainTextEdit()
         self.editor.setFont(QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.FixedFont))
         self.editor.setToolTip("parameters.txt: key = value, one per line; # starts a comment. "
@@ -112,7 +127,10 @@ class McsTaskPanel(ClosableTaskPanel):
         parameters_box.addWidget(self.editor)
         parameters_box.addWidget(self.check)
         parameters_box.addLayout(parameter_buttons)
-        # Watching
+        return parameters
+
+    def _watching_box(self):
+        """commands.txt: start and stop watching, the link's state, and the log."""
         self.start_button = QtGui.QPushButton("Start watching")
         self.start_button.setToolTip("Carry out each new command of commands.txt and answer it "
                                      "in results.txt")
@@ -121,28 +139,9 @@ class McsTaskPanel(ClosableTaskPanel):
         self.start_button.clicked.connect(lambda: self.start())
         self.stop_button.clicked.connect(self.stop)
         self.state = QtGui.QLabel("not watching")
-        self.leaf = self.state
+        self.alive_while_shown = self.state
         self.state.setWordWrap(True)
-        self.log = _FittedTable(0, len(LOG_COLUMNS))
-        self.log.setHorizontalHeaderLabels(list(LOG_COLUMNS))
-        self.log.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
-        self.log.verticalHeader().setVisible(False)
-        self.log.verticalHeader().setDefaultSectionSize(20)
-        self.log.horizontalHeader().setStretchLastSection(True)
-        # The short columns as wide as their text, the message in what is left (its full text
-        # in its tooltip): no sideways scrolling in a 264 px combo view.
-        header = self.log.horizontalHeader()
-        header.setDefaultSectionSize(40)  # first: Qt keeps a stretched section at least this wide
-        for column in range(len(LOG_COLUMNS) - 1):
-            header.setSectionResizeMode(column, QtGui.QHeaderView.ResizeToContents)
-        header.setMinimumSectionSize(24)
-        # Narrow headers and no time column on screen (each row's time is in its tooltips).
-        self.log.horizontalHeaderItem(2).setText("Cmd")
-        self.log.horizontalHeaderItem(2).setToolTip("Command")
-        self.log.setColumnHidden(0, True)
-        self.log.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
-        self.log.setWordWrap(False)
-        self.log.setMinimumHeight(150)
+        self.log = self._log_table()
         watch_buttons = QtGui.QVBoxLayout()
         watch_buttons.addWidget(self.start_button)
         watch_buttons.addWidget(self.stop_button)
@@ -151,27 +150,36 @@ class McsTaskPanel(ClosableTaskPanel):
         watching_box.addLayout(watch_buttons)
         watching_box.addWidget(self.state)
         watching_box.addWidget(self.log)
-        layout = QtGui.QVBoxLayout(self.form)
-        layout.addWidget(QtGui.QLabel(f"Layout: <b>{doc.Label}</b>"))
-        layout.addWidget(QtGui.QLabel("Folder"))
-        layout.addLayout(folder_row)
-        layout.addWidget(parameters)
-        layout.addWidget(watching, 1)
-        self._folder = self.folder.text()
-        self.load_parameters()
-        self._buttons()
-        self.follow_document(doc)
+        return watching
+
+    def _log_table(self):
+        """The commands carried out, one a row, fitted to a 264 px combo view."""
+        log = _FittedTable(0, len(LOG_COLUMNS))
+        log.setHorizontalHeaderLabels(list(LOG_COLUMNS))
+        log.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        log.verticalHeader().setVisible(False)
+        log.verticalHeader().setDefaultSectionSize(20)
+        log.horizontalHeader().setStretchLastSection(True)
+        # The short columns as wide as their text, the message in what is left (its full text
+        # in its tooltip): no sideways scrolling in a 264 px combo view.
+        header = log.horizontalHeader()
+        header.setDefaultSectionSize(40)  # first: Qt keeps a stretched section at least this wide
+        for column in range(len(LOG_COLUMNS) - 1):
+            header.setSectionResizeMode(column, QtGui.QHeaderView.ResizeToContents)
+        header.setMinimumSectionSize(24)
+        # Narrow headers and no time column on screen (each row's time is in its tooltips).
+        log.horizontalHeaderItem(2).setText("Cmd")
+        log.horizontalHeaderItem(2).setToolTip("Command")
+        log.setColumnHidden(0, True)
+        log.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
+        log.setWordWrap(False)
+        log.setMinimumHeight(150)
+        return log
 
     # --- the folder and parameters.txt -----------------------------------------------------
 
     def folder_path(self):
         return Path(self.folder.text().strip()).expanduser()
-
-    def _browse(self):
-        chosen = QtGui.QFileDialog.getExistingDirectory(self.form, "MCS folder",
-                                                        self.folder.text())
-        if chosen:
-            self.set_folder(chosen)
 
     def _ask_folder(self, why):
         """The folder field is empty: ask for a folder (FreeCAD's working directory is no
@@ -200,11 +208,11 @@ class McsTaskPanel(ClosableTaskPanel):
     def load_parameters(self):
         """Show the folder's parameters.txt; with none, the layout's values (not yet saved)."""
         path = self.folder_path() / PARAMETERS
-        self._disk = None
+        self._text_in_folder = None
         if self.folder.text().strip() and path.is_file():
             try:
-                self._disk = path.read_bytes().decode("utf-8-sig")
-                self._show_text(self._disk)
+                self._text_in_folder = path.read_bytes().decode("utf-8-sig")
+                self._show_text(self._text_in_folder)
                 return
             except (OSError, UnicodeDecodeError) as exc:
                 self._show_check(False, f"{path}: cannot read: {exc}")
@@ -229,7 +237,7 @@ class McsTaskPanel(ClosableTaskPanel):
             self._show_check(False, str(exc))
 
     def _show_text(self, text):
-        self._shown = text
+        self._text_put_in_editor = text
         self.editor.setPlainText(text)
 
     def validate(self):
@@ -278,7 +286,7 @@ class McsTaskPanel(ClosableTaskPanel):
         except OSError as exc:
             self._show_check(False, f"{folder / PARAMETERS}: cannot write: {exc.strerror or exc}")
             return False
-        self._shown, self._disk = shown, text
+        self._text_put_in_editor, self._text_in_folder = shown, text
         App.Console.PrintMessage(f"WaferScan: wrote {folder / PARAMETERS}\n")
         self._show_check(True, f"saved to {folder / PARAMETERS}")
         return True
@@ -292,7 +300,7 @@ class McsTaskPanel(ClosableTaskPanel):
             if not self._ask_folder("the folder to watch"):
                 self._show_state("no MCS folder: choose one with Browse…", error=True)
                 return False
-            if self.editor.toPlainText() == self._shown:  # not edited: show the folder's
+            if self.editor.toPlainText() == self._text_put_in_editor:  # not edited: show the folder's
                 self.load_parameters()
         folder = self.folder_path()
         if not folder.is_dir():
@@ -383,10 +391,10 @@ class McsTaskPanel(ClosableTaskPanel):
             text = (self.link.folder / PARAMETERS).read_bytes().decode("utf-8-sig")
         except (OSError, UnicodeDecodeError):
             return
-        if text == self._disk:
+        if text == self._text_in_folder:
             return
-        self._disk = text
-        if self.editor.toPlainText() == self._shown:
+        self._text_in_folder = text
+        if self.editor.toPlainText() == self._text_put_in_editor:
             self._show_text(text)
         else:
             self._show_check(False, "parameters.txt changed on disk: Reload shows it (your "

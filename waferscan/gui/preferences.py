@@ -9,7 +9,8 @@ import FreeCADGui as Gui
 from PySide import QtGui
 
 from ..core.model import MappingTolerances
-from .inputs import length_input, length_value, set_length
+from ..core.rules import HALF_THICKNESS_STORED, thickness_tolerance_from_stored
+from .inputs import folder_row, length_input, length_value, set_length
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 _DEFAULTS = MappingTolerances()
@@ -25,9 +26,9 @@ def mapping_tolerances():
     """The default MappingTolerances: the preferences', FreeCAD's parameters being the store.
     A negative thickness tolerance means "half the nominal thickness" (the core's None)."""
     group = _group()
-    thickness = group.GetFloat("ThicknessTolerance", -1.0)
+    thickness = group.GetFloat("ThicknessTolerance", HALF_THICKNESS_STORED)
     return MappingTolerances(
-        thickness_tolerance=None if thickness < 0 else thickness,
+        thickness_tolerance=thickness_tolerance_from_stored(thickness),
         position_tolerance=group.GetFloat("PositionTolerance", _DEFAULTS.position_tolerance),
         protrusion_limit=group.GetFloat("ProtrusionLimit", _DEFAULTS.protrusion_limit))
 
@@ -87,13 +88,7 @@ class PreferencesPage:
         self.folder = QtGui.QLineEdit()
         self.folder.setToolTip("The folder of parameters.txt, commands.txt and results.txt "
                                "that the MCS link panel opens with")
-        browse = QtGui.QPushButton("Browse…")
-        browse.setToolTip("Choose the MCS folder")
-        browse.clicked.connect(self._browse)
-        folder_row = QtGui.QHBoxLayout()
-        folder_row.addWidget(self.folder)
-        folder_row.addWidget(browse)
-        link_form.addRow("Folder", folder_row)
+        link_form.addRow("Folder", folder_row(self.folder, self.form, self.folder.setText))
         animation = QtGui.QGroupBox("Animation")
         animation_form = QtGui.QFormLayout(animation)
         self.speed = QtGui.QDoubleSpinBox()
@@ -115,11 +110,6 @@ class PreferencesPage:
         for box in (tolerances, link, animation):
             layout.addWidget(box)
         layout.addStretch(1)
-
-    def _browse(self):
-        folder = QtGui.QFileDialog.getExistingDirectory(self.form, "MCS folder", self.folder.text())
-        if folder:
-            self.folder.setText(folder)
 
     def loadSettings(self):
         mapping = mapping_tolerances()
@@ -145,7 +135,7 @@ class PreferencesPage:
                 App.Console.PrintError(f"WaferScan preferences: {name} not changed: {exc}\n")
                 return None
 
-        thickness = -1.0 if self.half_thickness.isChecked() else \
+        thickness = HALF_THICKNESS_STORED if self.half_thickness.isChecked() else \
             typed(self.thickness, "thickness tolerance")
         speed = self.speed.value()
         if self._loaded_speed is not None and speed == self._shown_speed:

@@ -20,10 +20,10 @@ def alive(widget):
 
 class ClosableTaskPanel:
     """FreeCAD's task-panel interface for a panel with one Close button. A subclass sets
-    ``self.form`` and ``self.leaf`` (a widget whose life tells whether the panel is shown) and
-    says in ``shut_down`` what closing stops."""
+    ``self.form`` and ``self.alive_while_shown`` (a widget whose life tells whether the panel is
+    shown) and says in ``shut_down`` what closing stops."""
 
-    leaf = None
+    alive_while_shown = None
     _observer = None
 
     def getStandardButtons(self):  # noqa: N802 (FreeCAD's names)
@@ -65,7 +65,7 @@ class ClosableTaskPanel:
 
     def is_open(self):
         """Whether FreeCAD still shows this panel."""
-        return alive(self.leaf)
+        return alive(self.alive_while_shown)
 
     def shut_down(self):
         raise NotImplementedError

@@ -1,5 +1,5 @@
-"""Showing a scan's results: the table of the paper's Table 1 (also kept in the document as a
-Spreadsheet) and the slot-code dialog. Everything shown comes from a core ``ScanResult``;
+"""Showing a scan's results: the table of the paper's Table 1 (kept in the document as a
+Spreadsheet by cad.results_sheet) and the slot-code dialog. Everything shown comes from a core ``ScanResult``;
 nothing is computed here."""
 
 from __future__ import annotations
@@ -12,61 +12,9 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..core.mapping import E87, STATE_NAMES
+from ..cad.results_sheet import COLUMNS, columns, table_cells
 from ..core.report import STATE_COLOURS
 from .side_view import SideView
-
-COLUMNS = ("Slot", "Slot Z [mm]", "Wafer", "IN [mm]", "OUT [mm]", "Diff [mm]", "State")
-# SPEC §13: a slow scan's jab and sweep per slot, shown when its pockets were probed.
-POCKET_COLUMNS = ("Front [mm]", "Sweep first [°]", "Sweep last [°]")
-
-
-def columns(result):
-    """The table's columns for this result: COLUMNS, and POCKET_COLUMNS after a jab or sweep."""
-    return COLUMNS + (POCKET_COLUMNS if result.pockets else ())
-
-
-def _pocket_cells(result, slot):
-    probe = next((p for p in result.pockets if p.slot == slot), None)
-    sweep = (None, None) if probe is None or probe.sweep is None else probe.sweep
-    return [_mm(None if probe is None else probe.front),
-            *("" if a is None else f"{a:+.3f}" for a in sweep)]
-SHEET = "ScanResults"
-
-
-def _mm(value):
-    return "" if value is None else f"{value:.3f}"
-
-
-def table_cells(result):
-    """The table's rows as text cells, with each row's state code."""
-    codes = {s.slot: s.state for s in result.slot_map.slots}
-    rows = []
-    for slot, seat, wafers, z_in, z_out, diff, state in result.table_rows():
-        rows.append(([str(slot), f"{seat:.2f}", ", ".join(wafers) or "-", _mm(z_in), _mm(z_out),
-                      _mm(diff), state] + (_pocket_cells(result, slot) if result.pockets else []),
-                     codes[slot]))
-    return rows
-
-
-def store_in_document(doc, result):
-    """Keep the results in the document as a Spreadsheet, so they survive save and reload."""
-    sheet = doc.getObject(SHEET) or doc.addObject("Spreadsheet::Sheet", SHEET)
-    sheet.clearAll()
-    for column, title in enumerate(columns(result)):
-        sheet.set(f"{chr(65 + column)}1", title)
-    rows = table_cells(result)
-    for row, (cells, _) in enumerate(rows, start=2):
-        for column, text in enumerate(cells):
-            if text:
-                sheet.set(f"{chr(65 + column)}{row}", f"'{text}" if column in (2, 6) else text)
-    last = len(rows) + 3
-    sheet.set(f"A{last}", "Code")
-    sheet.set(f"B{last}", f"'{result.code}")
-    sheet.setAlias(f"B{last}", "code")
-    sheet.set(f"A{last + 1}", "E87")
-    sheet.set(f"B{last + 1}", f"'{result.e87}")
-    doc.recompute()
-    return sheet
 
 
 def export_start(doc):

@@ -60,7 +60,7 @@ class ScanTaskPanel(ClosableTaskPanel):
                             else animation.frames / (60.0 * animation.steps_per_frame))
         self.speed.setToolTip("Playback: seconds of real time for the whole scan")
         self.status = QtGui.QLabel("")
-        self.leaf = self.status
+        self.alive_while_shown = self.status
         self.status.setWordWrap(True)
         # Two buttons a row: the panel fits FreeCAD's default combo view (264 px wide).
         buttons = QtGui.QGridLayout()

@@ -1,0 +1,81 @@
+"""Every WaferScan role's properties, in one place: name, FreeCAD type, unit and meaning (as
+freecad.cross lists a joint's). A role is a set of properties in the "WaferScan" group that any
+object can carry (roles.py); these tables are what tagging adds and what the reader reads.
+
+=================  ====================================================================
+role               properties
+=================  ====================================================================
+every role         WaferScanRole (its name); WaferScan's own objects also WaferScanVersion
+Wafer              none: the disc (centre, normal, diameter, thickness) is read from its solid
+Carrier            CARRIER
+Scanner            SCANNER
+Robot              ROBOT (and RobotLink on each link's shape)
+ScanSettings       SETTINGS (its scan and mapping fields: features.SETTINGS_PROPERTIES)
+=================  ====================================================================
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+
+class RoleProperty(NamedTuple):
+    """One property of a role: ``unit`` is "" for a count, a name or a direction."""
+
+    name: str
+    kind: str  # the FreeCAD property type
+    unit: str
+    tip: str  # the tooltip the property editor shows
+
+
+CARRIER = (
+    RoleProperty("SlotCount", "App::PropertyInteger", "", "Number of slots"),
+    RoleProperty("Pitch", "App::PropertyLength", "mm", "Distance between slots"),
+    RoleProperty("WaferDiameter", "App::PropertyLength", "mm", "Nominal wafer diameter"),
+    RoleProperty("WaferThickness", "App::PropertyLength", "mm", "Nominal wafer thickness"),
+    RoleProperty("SupportSpan", "App::PropertyLength", "mm",
+                 "Distance between the left and right slot supports' inner edges"),
+    RoleProperty("SlotOrigin", "App::PropertyPlacement", "mm",
+                 "Slot 1's seat centre in this object's frame (X across, -Y to the opening)"),
+)
+
+SCANNER = (
+    RoleProperty("Emitter", "App::PropertyVector", "mm", "Beam emitter in this object's frame"),
+    RoleProperty("Receiver", "App::PropertyVector", "mm", "Beam receiver in this object's frame"),
+    RoleProperty("LiftAxis", "App::PropertyVector", "",
+                 "Global direction of the scan motion when no robot carries the scanner"),
+)
+
+ROBOT = (
+    RoleProperty("Urdf", "App::PropertyString", "", "The robot's URDF; empty: the bundled robot"),
+    RoleProperty("JointNames", "App::PropertyStringList", "", "Joints in order"),
+    RoleProperty("StartJoints", "App::PropertyFloatList", "mm or degrees",
+                 "Taught start-scanning pose (mm for prismatic, degrees for revolute joints)"),
+    RoleProperty("LiftJoint", "App::PropertyString", "", "The joint a scan moves"),
+)
+
+SETTINGS = (
+    RoleProperty("StartZ", "App::PropertyDistance", "mm",
+                 "Scan position (emitter Z) of the first step"),
+    RoleProperty("FinalZ", "App::PropertyDistance", "mm", "Scan position of the last step"),
+    RoleProperty("ZStep", "App::PropertyLength", "mm",
+                 "Step between scan positions; 0 for exact edges"),
+    RoleProperty("ScanSpeed", "App::PropertySpeed", "mm/s", "Speed of a fast scan"),
+    RoleProperty("SensorResponse", "App::PropertyFloat", "s", "Sensor response time in s"),
+    RoleProperty("PositionTolerance", "App::PropertyLength", "mm", "Slot position tolerance"),
+    RoleProperty("ProtrusionLimit", "App::PropertyLength", "mm", "Protrusion limit"),
+    RoleProperty("Mode", "App::PropertyEnumeration", "",
+                 "fast: one stroke; slow: pocket by pocket"),
+    RoleProperty("Direction", "App::PropertyEnumeration", "", "Direction of a fast scan"),
+    RoleProperty("ThicknessTolerance", "App::PropertyFloat", "mm",
+                 "Wafer thickness tolerance in mm; negative: half the nominal thickness"),
+    RoleProperty("Carrier", "App::PropertyString", "", "Name (label) of the carrier to scan"),
+)
+
+BY_ROLE = {"Wafer": (), "Carrier": CARRIER, "Scanner": SCANNER, "Robot": ROBOT,
+           "ScanSettings": SETTINGS}
+
+
+def property_named(role_properties, name):
+    """The RoleProperty called ``name`` in a role's table."""
+    return next(p for p in role_properties if p.name == name)

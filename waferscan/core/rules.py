@@ -1,0 +1,76 @@
+"""Rules every reader of a layout applies, each written once.
+
+A scenario file, a parameters.txt and a FreeCAD document each say what is wrong in their own
+words (a TOML key and line, a parameter's line, an object's property); the rule itself — when a
+value is wrong — lives here, so changing it changes every reader.
+"""
+
+from __future__ import annotations
+
+from .errors import EngineError
+
+# The engine that gives exact edges (z_step = 0); the stepped engines need a step.
+EXACT_EDGES_ENGINE = "analytic"
+EXACT_EDGES_ONLY = "z_step = 0 (exact edges) is only offered by the analytic engine"
+
+# How a FreeCAD property or a preference stores "half the wafer's thickness" (SPEC §4): a
+# float cannot hold None, so any negative value means it.
+HALF_THICKNESS_STORED = -1.0
+
+# What is wrong with the choice of the carrier to scan (``carrier_choice_problem``).
+SEVERAL_CARRIERS = "several"
+UNKNOWN_CARRIER = "unknown"
+
+
+def thickness_fits_pitch(thickness, pitch):
+    """Whether a wafer of ``thickness`` (mm) fits a slot ``pitch`` (mm) apart: strictly less.
+
+    >>> thickness_fits_pitch(0.775, 10.0), thickness_fits_pitch(10.0, 10.0)
+    (True, False)
+    """
+    return thickness < pitch
+
+
+def carrier_choice_problem(names, chosen):
+    """What is wrong with scanning the carrier named ``chosen`` (None: not said) among the
+    carriers ``names``: None when the choice is clear, ``SEVERAL_CARRIERS`` when it is not said
+    and there are several, ``UNKNOWN_CARRIER`` when no carrier has that name.
+
+    >>> carrier_choice_problem(["LP1"], None), carrier_choice_problem(["A", "B"], None)
+    (None, 'several')
+    >>> carrier_choice_problem(["A", "B"], "C")
+    'unknown'
+    """
+    if chosen is None:
+        return SEVERAL_CARRIERS if len(names) > 1 else None
+    return None if chosen in names else UNKNOWN_CARRIER
+
+
+def offers_exact_edges(engine):
+    """Whether ``engine`` (its name) gives exact edges, the scan of z_step = 0."""
+    return engine == EXACT_EDGES_ENGINE
+
+
+def check_stepped(scan):
+    """EngineError when a stepped engine is asked for exact edges (``scan.exact``)."""
+    if scan.exact:
+        raise EngineError(EXACT_EDGES_ONLY)
+
+
+def thickness_tolerance_from_stored(value):
+    """The mapping's thickness tolerance (mm, or None for half the thickness) from the float a
+    property or preference stores: a negative value means half the thickness.
+
+    >>> thickness_tolerance_from_stored(-1.0) is None, thickness_tolerance_from_stored(0.3)
+    (True, 0.3)
+    """
+    return None if value < 0 else value
+
+
+def stored_thickness_tolerance(tolerance):
+    """The float a property or preference stores for ``tolerance`` (None: half the thickness).
+
+    >>> stored_thickness_tolerance(None), stored_thickness_tolerance(0.35)
+    (-1.0, 0.35)
+    """
+    return HALF_THICKNESS_STORED if tolerance is None else tolerance
