@@ -11,7 +11,7 @@ from waferscan.cad.bowed_solid import bowed_wafer_solid
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.scan import scan_layout
 from waferscan.core.scenario import read_scenario
 

@@ -14,7 +14,7 @@ import pytest
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
-from waferscan.cli import paper_scenario
+from waferscan.addon import paper_scenario
 from waferscan.core.errors import InputError
 from waferscan.core.scan import scan_layout
 from waferscan.core.scenario import read_scenario

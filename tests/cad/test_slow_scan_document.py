@@ -12,7 +12,8 @@ import FreeCAD as App
 import pytest
 
 from waferscan.cad.builder import build_document
-from waferscan.cad.document_scan import mover_for, read_beam, scan_document
+from waferscan.cad.document_scan import mover_for, scan_document
+from waferscan.cad.reader import beam_from
 from waferscan.cad.pocket_probe import RobotArm, ScannerArm
 from waferscan.cad.reader import DocumentScene, read_layout
 from waferscan.core import slow_scan
@@ -58,7 +59,7 @@ def test_the_jab_and_sweep_move_the_robots_joints_and_the_beam_follows_the_close
     z = 364.29
     for advance, turn in ((0.0, 0.0), (10.0, 0.0), (26.6, 0.0), (26.6, 33.0), (5.0, -20.0)):
         arm.move(z, advance, turn)
-        beam = read_beam(scanner)
+        beam = beam_from(scanner)
         emitter, expected = slow_scan.beam_at(layout, z, advance, turn)
         assert beam.emitter == pytest.approx(emitter, abs=1e-9)
         assert beam.direction == pytest.approx(expected.direction, abs=1e-12)
@@ -104,7 +105,7 @@ def test_a_scanner_without_a_robot_jabs_and_sweeps_by_its_placement():
         arm = ScannerArm(mover_for(scene, read), read)
         arm.move(334.29, 12.0, -7.5)
         emitter, expected = slow_scan.beam_at(read, 334.29, 12.0, -7.5)
-        beam = read_beam(scene.scanner())
+        beam = beam_from(scene.scanner())
         assert beam.emitter == pytest.approx(emitter, abs=1e-9)
         assert beam.direction == pytest.approx(expected.direction, abs=1e-12)
         arm.restore()

@@ -81,4 +81,4 @@ def test_no_import_cycle():
     # A package's __init__ importing its own modules is not a cycle of the code's layers.
     packages = {m for m in graph if (PACKAGE.parent / m.replace(".", "/") / "__init__.py").exists()}
     cycles = [c for c in cycles if not packages & set(c)]
-    assert cycles == []
+    assert cycles == [], cycles

@@ -18,19 +18,19 @@ def begin():
     doc = commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
     animation = commands.run_scan(doc, steps_per_frame=500)
     wait_for("the pocket animation", lambda: animation.ended
-             and commands._session.get("pockets") is not None, pockets)
+             and commands.session.pocket_animation is not None, pockets)
 
 
 def _read(pockets, index):
-    from waferscan.cad.document_scan import read_beam
+    from waferscan.cad.reader import beam_from
     from waferscan.cad.reader import DocumentScene
     from waferscan.gui import commands
 
     pockets.show(index)
     pockets.moved.emit(index)
     Gui.updateGui()
-    panel = commands._session["panel"]
-    beam = read_beam(DocumentScene.of(pockets.doc).scanner())
+    panel = commands.session.task_panel
+    beam = beam_from(DocumentScene.of(pockets.doc).scanner())
     links = {o.RobotLink: list(o.Placement.Base) for o in pockets.doc.Objects
              if "RobotLink" in o.PropertiesList}
     return {"frame": list(pockets.frames[index]), "pocket": panel.pocket.text(),
@@ -42,9 +42,9 @@ def _read(pockets, index):
 def pockets():
     from waferscan.gui import commands
     from waferscan.gui.pocket_animation import frame_of
-    animation = commands._session["pockets"]
+    animation = commands.session.pocket_animation
     animation.timer.stop()  # held: frames shown one by one below
-    result["panel_title"] = commands._session["panel"].form.windowTitle()
+    result["panel_title"] = commands.session.task_panel.form.windowTitle()
     result["start"] = _read(animation, 0)
     result["jab"] = _read(animation, frame_of(animation, 8, "jab", 1.0))
     window_shot("gui-jab.png")
@@ -52,13 +52,13 @@ def pockets():
     animation.k = len(animation.frames) - 1
     animation.play()
     wait_for("the results dialogs", lambda: animation.ended
-             and len(commands._session["dialogs"]) == 2, dialogs)
+             and len(commands.session.dialogs) == 2, dialogs)
 
 
 def dialogs():
     from waferscan.gui import commands
-    result["panel_status"] = commands._session["panel"].status.text()
-    table, code = commands._session["dialogs"]
+    result["panel_status"] = commands.session.task_panel.status.text()
+    table, code = commands.session.dialogs
     result["code"] = code.code_label.text()
     result["headers"] = [table.table.horizontalHeaderItem(c).text()
                          for c in range(table.table.columnCount())]

@@ -8,39 +8,12 @@ lift joint), then read the scanner's and every wafer's global placement back and
 
 from __future__ import annotations
 
-import FreeCAD as App
-
 from ..core.engines import CAD_ENGINES
 from ..core.geometry import beam_hits_wafer
 from ..core.mcs import apply_parameters
-from ..core.model import Wafer
 from ..core.scan import scan_layout
 from .reader import DocumentScene, read_layout
-from .stepping import mover_for, stepper_through_document
-
-
-class _WaferInItsFrame:
-    """A wafer instance's disc in its own frame, so each step can place it from the placement
-    read back through the document."""
-
-    def __init__(self, instance, wafer):
-        self.instance = instance
-        self.wafer = wafer
-        inverse = instance.placement().inverse()
-        self.center = inverse.multVec(App.Vector(*wafer.center))
-        self.normal = inverse.Rotation.multVec(App.Vector(*wafer.normal))
-
-    def wafer_now(self):
-        """The wafer where its instance's placement puts it now (global coordinates)."""
-        placement = self.instance.placement()
-        c = placement.multVec(self.center)
-        # FreeCAD 0.20 leaks ~80 B on each Placement.Rotation (and vector property) access:
-        # the normal is turned by the placement's matrix with its translation taken out.
-        turn = placement.toMatrix()
-        turn.A14 = turn.A24 = turn.A34 = 0.0
-        n = turn.multVec(self.normal)
-        return Wafer(self.wafer.name, (c.x, c.y, c.z), (n.x, n.y, n.z), self.wafer.diameter,
-                     self.wafer.thickness, bow=self.wafer.bow)
+from .stepping import WaferInItsFrame, mover_for, stepper_through_document
 
 
 def document_stepper(scene, mover):
@@ -48,7 +21,7 @@ def document_stepper(scene, mover):
     placement read back at every step and tested exactly."""
 
     def prepare(layout, reachable):
-        framed = {i: _WaferInItsFrame(scene.wafers[i], layout.wafers[i]) for i in reachable}
+        framed = {i: WaferInItsFrame(scene.wafers[i], layout.wafers[i]) for i in reachable}
         return lambda beam: [i for i, wafer in framed.items()
                              if beam_hits_wafer(beam.emitter, beam, wafer.wafer_now())]
 

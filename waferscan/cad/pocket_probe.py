@@ -18,7 +18,8 @@ from ..core import slow_scan
 from ..core.errors import InputError
 from ..core.geometry import beam_hits_wafer
 from . import roles
-from .document_scan import _LocalDisc, read_beam
+from .reader import beam_from
+from .stepping import WaferInItsFrame
 
 JAB_SUBSTEP = 0.5  # mm between the jab's sub-steps
 SWEEP_SUBSTEP = 0.25  # degrees between the sweep's sub-steps
@@ -138,11 +139,11 @@ def document_measure(scene, arm, layout):
 
     def blocked(near, z, advance, turn):
         arm.move(z, advance, turn)
-        beam = read_beam(scanner, ends)
+        beam = beam_from(scanner, ends)
         for i in near:
             if i not in discs:
-                discs[i] = _LocalDisc(scene.wafers[i], layout.wafers[i])
-            if beam_hits_wafer(beam.emitter, beam, discs[i].read()):
+                discs[i] = WaferInItsFrame(scene.wafers[i], layout.wafers[i])
+            if beam_hits_wafer(beam.emitter, beam, discs[i].wafer_now()):
                 return True
         return False
 

@@ -9,9 +9,34 @@ from __future__ import annotations
 import FreeCAD as App
 
 from ..core.engines import StepHits, reachable_wafers, runs_from_blocked
+from ..core.model import Wafer
 from ..core.rules import check_stepped
 from . import roles
 from .reader import beam_from
+
+
+class WaferInItsFrame:
+    """A wafer instance's disc in its own frame, so each step can place it from the placement
+    read back through the document."""
+
+    def __init__(self, instance, wafer):
+        self.instance = instance
+        self.wafer = wafer
+        inverse = instance.placement().inverse()
+        self.center = inverse.multVec(App.Vector(*wafer.center))
+        self.normal = inverse.Rotation.multVec(App.Vector(*wafer.normal))
+
+    def wafer_now(self):
+        """The wafer where its instance's placement puts it now (global coordinates)."""
+        placement = self.instance.placement()
+        c = placement.multVec(self.center)
+        # FreeCAD 0.20 leaks ~80 B on each Placement.Rotation (and vector property) access:
+        # the normal is turned by the placement's matrix with its translation taken out.
+        turn = placement.toMatrix()
+        turn.A14 = turn.A24 = turn.A34 = 0.0
+        n = turn.multVec(self.normal)
+        return Wafer(self.wafer.name, (c.x, c.y, c.z), (n.x, n.y, n.z), self.wafer.diameter,
+                     self.wafer.thickness, bow=self.wafer.bow)
 
 
 class ScannerMover:

@@ -112,9 +112,10 @@ def _extremes(a, b, c, lo, hi):
     return min(values), max(values)
 
 
-def bowed_translation_range(emitter, beam, axis, wafer, tol=1e-9):
+def bowed_translation_range(emitter, beam, axis, wafer, tol, flat_range):
     """The range [tau_lo, tau_hi] of translations along the unit ``axis`` over which the beam
-    meets the bowed wafer, or None."""
+    meets the bowed wafer, or None. ``flat_range`` is geometry.translation_range (for the flat
+    wafer that holds the bowed one, when the range is not closed form)."""
     wn, en, p, q = _frame(emitter, beam.direction, wafer)
     nx, ny, nz = wafer.normal
     ax, ay, az = axis
@@ -139,19 +140,17 @@ def bowed_translation_range(emitter, beam, axis, wafer, tol=1e-9):
         if an > 0.0:
             return (low[0] / an, high[1] / an)
         return (high[1] / an, low[0] / an)
-    return _sampled_range(emitter, beam, axis, wafer, tol)
+    return _sampled_range(emitter, beam, axis, wafer, tol, flat_range)
 
 
-def _sampled_range(emitter, beam, axis, wafer, tol):
-    from .geometry import translation_range
-
+def _sampled_range(emitter, beam, axis, wafer, tol, flat_range):
     bow = wafer.bow
     nx, ny, nz = wafer.normal
     # A flat wafer holding the bowed one: from min(0, bow) to max(0, bow) + t along the normal.
     shift = min(0.0, bow)
     hull = replace(wafer, center=tuple(c + shift * k for c, k in zip(wafer.center, wafer.normal)),
                    thickness=wafer.thickness + abs(bow), bow=0.0)
-    span = translation_range(emitter, beam, axis, hull, tol)
+    span = flat_range(emitter, beam, axis, hull, tol)
     if span is None:
         return None
 

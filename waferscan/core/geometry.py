@@ -326,7 +326,9 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     (1.0, 1.775)
     """
     if wafer.bow:
-        return bowed_translation_range(emitter, beam, axis, wafer, tol)  # SPEC §10
+        # SPEC §10; the flat range (of the flat wafer holding the bowed one) is this function's,
+        # given to bow.py so that it need not import this module.
+        return bowed_translation_range(emitter, beam, axis, wafer, tol, translation_range)
     # Scalars, not tuples from generators, up to the common case below: this runs once per
     # wafer of every analytic scan (the same arithmetic in the same order as _dot).
     ex, ey, ez = e = beam.direction

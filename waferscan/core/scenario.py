@@ -223,7 +223,7 @@ def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None)
     robot = _robot(reader, data["robot"]) if "robot" in data else None
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
-    layout = _sensor_settings(reader, layout, sensor, scan_table)
+    layout = _sensor_settings(reader, layout, data.get("sensor", {}), data.get("scan", {}))
     _check_layout(reader, layout, len(data.get("wafer", [])))
     if default_mapping is not None and "mapping" not in data:
         layout = replace(layout, mapping=default_mapping)

@@ -93,7 +93,7 @@ def _latcher(scan, moving_up):
 def _ideal_output(layout, window):
     """ON stretches of the ideal line beam (the same both ways: b is 0 or 1), per-wafer spans
     and the runs' wafers, from the analytic engine."""
-    from .scan import _exact_intervals, _run_wafers, _stepped_intervals
+    from .scan_result import _exact_intervals, _run_wafers, _stepped_intervals
 
     hits = analytic_engine(layout)
     if isinstance(hits, ExactHits):
@@ -172,7 +172,7 @@ def sensed_scan(layout, engine="analytic", progress=None):
     """Scan a layout with a real sensor (SPEC §10) and map its slots: the ``ScanResult`` of
     core/scan.py with ``edges`` (every latched ON/OFF edge in the order latched) and ``signal``
     (b along the scan)."""
-    from .scan import (ScanResult, SensorRun, WaferInterval, _window, protruding_slots,
+    from .scan_result import (ScanResult, SensorRun, WaferInterval, _window, protruding_slots,
                        scan_warnings, scanned_range, slot_plan)
 
     if engine != "analytic":

@@ -18,6 +18,7 @@ from . import preferences
 from .inputs import format_length
 from .qt import alive
 
+
 class WorkbenchSession:
     """What the workbench keeps between commands while FreeCAD runs (one of it: ``session``).
     Every attribute is here from the start; nothing else holds state between commands."""
@@ -30,6 +31,7 @@ class WorkbenchSession:
         self.message_boxes = []  # non-blocking message boxes (errors, hints) not yet closed
         self.results_windows = {}  # document Name -> {"table" | "code": its results dialog}
         self.close_watcher = None  # the document observer that closes a closed one's dialogs
+        self.pocket_animation = None  # a slow scan's jabs and sweeps playing (SPEC §13), or None
 
     def keep_message_box(self, box):
         """Keep a non-blocking box alive (Qt would delete it with its last Python reference)."""
@@ -250,7 +252,7 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
         from .pocket_animation import then_pockets
 
         on_completed = then_pockets(doc, result, on_completed, _show_task_panel if panel
-                                    else None, _session)
+                                    else None, session)
     if panel:
         def replay(seconds):
             play_scan(doc, result, show_results=show_results, duration_s=seconds)

@@ -233,6 +233,6 @@ def then_pockets(doc, result, on_completed, show_panel, session):
     has finished its own work), then ``on_completed``. ``session`` keeps the animation."""
 
     def start():
-        session["pockets"] = play_pockets(doc, result, on_completed, show_panel)
+        session.pocket_animation = play_pockets(doc, result, on_completed, show_panel)
 
     return lambda: QtCore.QTimer.singleShot(0, start)

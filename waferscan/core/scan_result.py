@@ -1,0 +1,281 @@
+"""What a scan gives and the steps from an engine's hits to it: sensor runs as the MCS sees them
+(latched), per-wafer intervals, the protrusion check, the warnings of SPEC §3 and the
+``ScanResult``. ``core/scan.py`` (the ideal sensor) and ``core/sensing.py`` (SPEC §10's real
+sensor) both build their results from these, so neither imports the other's module."""
+
+from __future__ import annotations
+
+import math
+from bisect import bisect_left, bisect_right
+from dataclasses import dataclass
+
+from .engines import reachable_wafers
+from .geometry import wafer_bounds
+from .mapping import LIMIT_SLACK, STATE_NAMES, SlotPlan
+from .model import DOWN, SLOW, UP, UPDOWN
+
+
+@dataclass(frozen=True)
+class SensorRun:
+    """A run of the sensor signal as latched: IN where the beam got blocked, OUT where it was
+    last blocked, in the order of motion. ``wafers`` names the wafers that caused it (the
+    simulator knows, a real sensor does not)."""
+
+    z_in: float
+    z_out: float
+    wafers: tuple = ()
+    # (bottom, top): the scan positions of its first and last blocked step before latching, in
+    # ascending Z (what the geometry says; IN and OUT trail them by the latch lag).
+    unlatched: tuple | None = None
+
+    @property
+    def diff(self):
+        return abs(self.z_out - self.z_in)
+
+    @property
+    def bottom(self):
+        return min(self.z_in, self.z_out)
+
+    @property
+    def top(self):
+        return max(self.z_in, self.z_out)
+
+
+@dataclass(frozen=True)
+class WaferInterval:
+    """First and last scan position (ascending Z, unlatched) at which the beam meets a wafer."""
+
+    name: str
+    z_in: float | None
+    z_out: float | None
+
+    @property
+    def diff(self):
+        return None if self.z_in is None else self.z_out - self.z_in
+
+
+@dataclass(frozen=True)
+class ScanResult:
+    layout: object
+    engine: str
+    plan: SlotPlan
+    runs: tuple
+    wafers: tuple
+    slot_map: object
+    protrusions: tuple  # (wafer name, protrusion in mm) for the scanned carrier's wafers
+    warnings: tuple = ()  # why some of what is reported cannot be known (SPEC §3), as sentences
+    # SPEC §10, a real sensor's scan only (core/sensing.py): every latched ON/OFF edge in the
+    # order latched, and the blocked fraction along the scan (a SignalTrace).
+    edges: tuple = ()
+    signal: object = None
+    # SPEC §13, a slow scan with a jab or a sweep: each scanned pocket's PocketProbe
+    # (core/slow_scan.py), in slot order; empty otherwise.
+    pockets: tuple = ()
+
+    @property
+    def durations(self):
+        """Simulated seconds of a fast and of a slow scan of this layout (SPEC §13)."""
+        from . import slow_scan
+
+        return {"fast": slow_scan.fast_duration(self.layout.scan),
+                "slow": slow_scan.slow_duration(self.layout.scan, self.plan, self.pockets)}
+
+    @property
+    def code(self):
+        return self.slot_map.code
+
+    @property
+    def e87(self):
+        return self.slot_map.e87
+
+    def table_rows(self):
+        """Rows like the paper's Table 1: (slot, seat_z, wafers, z_in, z_out, diff, state).
+        A run is listed at the lowest slot it speaks for; an empty slot gets one blank row."""
+        listed = set()
+        rows = []
+        for slot in self.slot_map.slots:
+            own = [i for i in slot.runs if i not in listed]
+            listed.update(own)
+            state = STATE_NAMES[slot.state]
+            if not own:
+                rows.append((slot.slot, slot.seat_z, (), None, None, None, state))
+            for i in own:
+                run = self.runs[i]
+                rows.append((slot.slot, slot.seat_z, run.wafers, run.z_in, run.z_out, run.diff,
+                             state))
+        return rows
+
+
+def slot_plan(carrier, mapping):
+    """The nominal slots of a carrier with the layout's mapping tolerances."""
+    return SlotPlan(
+        slot_count=carrier.slot_count,
+        pitch=carrier.pitch,
+        first_slot_z=carrier.first_slot_z,
+        wafer_thickness=carrier.wafer_thickness,
+        thickness_tolerance=mapping.thickness_tolerance_for(carrier.wafer_thickness),
+        position_tolerance=mapping.position_tolerance,
+        protrusion_limit=mapping.protrusion_limit,
+    )
+
+
+def _window(plan):
+    return (plan.seat_z(1) - 0.5 * plan.pitch, plan.seat_z(plan.slot_count) + 0.5 * plan.pitch)
+
+
+def _stepped_intervals(hits, scan, window):
+    """Step intervals as (bottom, top) scan positions, clipped to the steps inside ``window``."""
+    if window is None:
+        k_lo, k_hi = 0, hits.count - 1
+    else:
+        k_lo = max(0, math.ceil((window[0] - scan.start_z) / scan.z_step))
+        k_hi = min(hits.count - 1, math.floor((window[1] - scan.start_z) / scan.z_step))
+
+    def clip(interval):
+        if interval is None or interval[1] < k_lo or interval[0] > k_hi:
+            return None
+        return (max(interval[0], k_lo), min(interval[1], k_hi))
+
+    def to_z(interval):
+        return None if interval is None else (scan.position(interval[0]), scan.position(interval[1]))
+
+    runs = [to_z(clip(r)) for r in hits.runs]
+    return [r for r in runs if r is not None], [to_z(clip(w)) for w in hits.wafer_steps]
+
+
+def _exact_intervals(hits, window):
+    def clip(interval):
+        if interval is None:
+            return None
+        if window is None:
+            return interval
+        if interval[1] < window[0] or interval[0] > window[1]:
+            return None
+        return (max(interval[0], window[0]), min(interval[1], window[1]))
+
+    runs = [clip(r) for r in hits.runs]
+    return [r for r in runs if r is not None], [clip(w) for w in hits.wafer_edges]
+
+
+def latch(bottom, top, scan):
+    """(IN, OUT) of a run as the sensor latches it in the scan's direction of motion."""
+    lag = scan.latch_lag
+    if scan.mode == SLOW or scan.direction == UP:
+        return bottom + lag, top + lag
+    if scan.direction == DOWN:
+        return top - lag, bottom - lag
+    assert scan.direction == UPDOWN
+    # Up stroke latches bottom + lag, down stroke bottom - lag: the mean cancels the lag.
+    return (0.5 * ((bottom + lag) + (bottom - lag)), 0.5 * ((top + lag) + (top - lag)))
+
+
+def protrusion(carrier, wafer):
+    """How far (mm) the wafer reaches out of the carrier's opening beyond a seated wafer."""
+    fx, fy = carrier.front
+    mx, my, _ = wafer.mid_center
+    nx, ny, nz = wafer.normal
+    along_front = nx * fx + ny * fy
+    reach = (mx - carrier.center[0]) * fx + (my - carrier.center[1]) * fy
+    reach += wafer.radius * math.sqrt(max(0.0, 1.0 - along_front * along_front))
+    return reach - 0.5 * carrier.wafer_diameter
+
+
+def _carrier_wafers(carrier, wafers):
+    """The wafers inside the carrier's footprint and slot range."""
+    r = 0.5 * carrier.wafer_diameter
+    z_lo = carrier.seat_z(1) - carrier.pitch
+    z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+    for wafer in wafers:
+        mx, my, mz = wafer.mid_center
+        if math.hypot(mx - carrier.center[0], my - carrier.center[1]) < r and z_lo <= mz <= z_hi:
+            yield wafer
+
+
+def protruding_slots(carrier, plan, wafers):
+    """Slots holding a wafer that sticks out beyond the protrusion limit, and every such wafer's
+    protrusion. Models a load port's protrusion sensor across the carrier's opening: it sees the
+    front edge alone, so a wafer is flagged however it is seated (SPEC §4). The slot it occupies
+    is the one whose seat is nearest its bottom edge, and every slot whose seat its Z extent
+    spans (a tilted, cross-slotted wafer occupies both of its slots)."""
+    slots = set()
+    found = []
+    for wafer in _carrier_wafers(carrier, wafers):
+        amount = protrusion(carrier, wafer)
+        found.append((wafer.name, amount))
+        if amount > plan.protrusion_limit:
+            (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
+            slots.add(plan.nearest_slot(z0))
+            for slot in range(1, plan.slot_count + 1):
+                if z0 <= plan.seat_z(slot) <= z1:
+                    slots.add(slot)
+    return sorted(slots), tuple(found)
+
+
+def scanned_range(scan, window=None):
+    """(low, high) scan Z (mm) the beam was read over: the stepped positions from start_z to the
+    last one on the grid (z_step = 0: start_z to final_z), within ``window`` when the scan keeps
+    to one (slow mode); None when no position lies in it."""
+    if scan.exact:
+        low, high = scan.start_z, scan.final_z
+        if window is not None:
+            low, high = max(low, window[0]), min(high, window[1])
+        return (low, high) if low <= high else None
+    k_lo, k_hi = 0, scan.last_step
+    if window is not None:
+        k_lo = max(k_lo, math.ceil((window[0] - scan.start_z) / scan.z_step))
+        k_hi = min(k_hi, math.floor((window[1] - scan.start_z) / scan.z_step))
+    return (scan.position(k_lo), scan.position(k_hi)) if k_lo <= k_hi else None
+
+
+def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
+    """Why parts of a scan's result cannot be known (SPEC §3 "Honest results"), one sentence
+    each: a step coarser than half the thinnest wafer, slots whose window the scan did not
+    wholly cover (``scanned``: start_z to final_z), runs cut off by an end of the range the beam
+    was read over (``visited``: the first and last stepped positions; in slow mode, within the
+    carrier's pockets)."""
+    scan = layout.scan
+    warnings = []
+    coarse = not scan.exact and scan.z_step > 0.5 * min(
+        [plan.wafer_thickness] + [w.thickness for w in layout.wafers]) + LIMIT_SLACK
+    if coarse:
+        # Only the wafers the beam can reach count (the accessibility check, run only here).
+        reachable = reachable_wafers(layout)
+        thinnest = min([plan.wafer_thickness] + [layout.wafers[i].thickness for i in reachable])
+        if scan.z_step > 0.5 * thinnest + LIMIT_SLACK:
+            warnings.append(f"z_step {scan.z_step:g} mm is coarser than half the thinnest wafer "
+                            f"({thinnest:g} mm): a wafer can be missed, or measured thin, thick "
+                            f"or off its seat")
+    if unscanned:
+        where = "nothing" if scanned is None else f"{scanned[0]:.3f} to {scanned[1]:.3f} mm"
+        slots = ", ".join(str(s) for s in unscanned)
+        warnings.append(f"slot{'s' if len(unscanned) > 1 else ''} {slots} of {plan.slot_count} "
+                        f"not wholly inside the scanned range ({where}): reported unscanned (?)")
+    if visited is not None:
+        for bottom, top in run_spans:
+            ends = [name for name, cut in (("start", bottom <= visited[0] + LIMIT_SLACK),
+                                           ("end", top >= visited[1] - LIMIT_SLACK)) if cut]
+            if ends:
+                warnings.append(f"the sensor run from {bottom:.3f} to {top:.3f} mm is cut off by "
+                                f"the {' and the '.join(ends)} of the scanned range: its length "
+                                f"and position are not known")
+    return tuple(warnings)
+
+
+def _run_wafers(run_spans, wafers, wafer_spans):
+    """For each run (bottom, top), the names of the wafers whose span overlaps it, in the
+    layout's order. The runs are disjoint, so sorted by bottom their tops ascend too: each
+    wafer finds its runs by bisection, O((runs + wafers) log runs) where a search of every
+    wafer for every run was O(runs x wafers) (10,000 wafers: seconds)."""
+    order = sorted(range(len(run_spans)), key=lambda i: run_spans[i][0])
+    bottoms = [run_spans[i][0] for i in order]
+    tops = [run_spans[i][1] for i in order]
+    names = [[] for _ in run_spans]
+    for wafer, span in zip(wafers, wafer_spans):
+        if span is None:
+            continue
+        # Runs with top >= span's low end and bottom <= its high end.
+        for j in range(bisect_left(tops, span[0]), bisect_right(bottoms, span[1])):
+            names[order[j]].append(wafer.name)
+    return [tuple(n) for n in names]
+
+
