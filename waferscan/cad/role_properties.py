@@ -72,6 +72,54 @@ SETTINGS = (
     RoleProperty("Carrier", "App::PropertyString", "", "Name (label) of the carrier to scan"),
 )
 
+# SPEC §10's sensor settings and SPEC §13's slow-scan settings on the same object, as (property,
+# kind, key or field, tooltip): cad/sensor_properties.py and cad/slow_scan_properties.py add and
+# read them.
+_UNITS = {"SpotDiameter": "mm", "SpotWidth": "mm", "SpotHeight": "mm", "ThresholdOn": "",
+          "ThresholdOff": "", "Acceleration": "mm/s²", "SamplePeriod": "s", "Jab": "mm",
+          "Sweep": "deg", "SweepRadius": "mm", "ArmSpeed": "mm/s", "ArmAcceleration": "mm/s²",
+          "WristSpeed": "deg/s", "WristAcceleration": "deg/s²"}
+
+
+# (property, kind, key of core.sensor_settings, tooltip). Zero means "not set" for the spot's
+# lengths (the ideal line), the acceleration (infinite) and the read period.
+SENSOR_PROPERTIES = (
+    ("SpotDiameter", "App::PropertyLength", "spot_diameter",
+     "Diameter of a round beam spot; 0: the ideal line (SPEC §10)"),
+    ("SpotWidth", "App::PropertyLength", "spot_width", "Width of a slit beam spot (with SpotHeight)"),
+    ("SpotHeight", "App::PropertyLength", "spot_height", "Height of a slit beam spot (with SpotWidth)"),
+    ("ThresholdOn", "App::PropertyFloat", "threshold_on",
+     "Blocked fraction of the spot at which the amplifier's output turns ON"),
+    ("ThresholdOff", "App::PropertyFloat", "threshold_off",
+     "Blocked fraction below which it turns OFF again (<= ThresholdOn: hysteresis)"),
+    ("Acceleration", "App::PropertyAcceleration", "acceleration",
+     "Acceleration of the scan stroke; 0: full speed at once"),
+    ("SamplePeriod", "App::PropertyFloat", "sample_period",
+     "Period in s at which the controller reads the sensor (latch = sampled)"),
+)
+
+LATCH_TIP = ("step: edges on the step grid; encoder: latched in motion after the sensor's "
+             "response; sampled: at the controller's next read")
+
+SLOW_SCAN_PROPERTIES = (
+    ("Jab", "App::PropertyLength", "jab", "Slow scan: how far the fork advances into each "
+     "pocket along its heading (0: no jab)"),
+    ("Sweep", "App::PropertyAngle", "sweep", "Slow scan: the wrist turns by plus and minus "
+     "this at each pocket (0: no sweep)"),
+    ("SweepRadius", "App::PropertyLength", "sweep_radius", "Distance from the wrist axis to the "
+     "beam's midpoint along the fork's heading"),
+    ("ArmSpeed", "App::PropertySpeed", "arm_speed", "Speed of the jab's straight advance"),
+    ("ArmAcceleration", "App::PropertyAcceleration", "arm_acceleration",
+     "Acceleration of the jab's straight advance"),
+    ("WristSpeed", "App::PropertyFloat", "wrist_speed", "Speed of the sweep in degrees/s"),
+    ("WristAcceleration", "App::PropertyFloat", "wrist_acceleration",
+     "Acceleration of the sweep in degrees/s²"),
+)
+
+SETTINGS += tuple(RoleProperty(name, kind, _UNITS[name], tip)
+                  for name, kind, _, tip in SENSOR_PROPERTIES + SLOW_SCAN_PROPERTIES)
+SETTINGS += (RoleProperty("Latch", "App::PropertyEnumeration", "", LATCH_TIP),)
+
 BY_ROLE = {"Wafer": (), "Carrier": CARRIER, "Scanner": SCANNER, "Robot": ROBOT,
            "ScanSettings": SETTINGS}
 

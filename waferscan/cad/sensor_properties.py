@@ -11,23 +11,8 @@ import math
 from ..core import sensor_settings
 from ..core.motion import LATCHES
 from . import roles
-
-# (property, kind, key of core.sensor_settings, tooltip). Zero means "not set" for the spot's
-# lengths (the ideal line), the acceleration (infinite) and the read period.
-SENSOR_PROPERTIES = (
-    ("SpotDiameter", "App::PropertyLength", "spot_diameter",
-     "Diameter of a round beam spot; 0: the ideal line (SPEC §10)"),
-    ("SpotWidth", "App::PropertyLength", "spot_width", "Width of a slit beam spot (with SpotHeight)"),
-    ("SpotHeight", "App::PropertyLength", "spot_height", "Height of a slit beam spot (with SpotWidth)"),
-    ("ThresholdOn", "App::PropertyFloat", "threshold_on",
-     "Blocked fraction of the spot at which the amplifier's output turns ON"),
-    ("ThresholdOff", "App::PropertyFloat", "threshold_off",
-     "Blocked fraction below which it turns OFF again (<= ThresholdOn: hysteresis)"),
-    ("Acceleration", "App::PropertyAcceleration", "acceleration",
-     "Acceleration of the scan stroke; 0: full speed at once"),
-    ("SamplePeriod", "App::PropertyFloat", "sample_period",
-     "Period in s at which the controller reads the sensor (latch = sampled)"),
-)
+# (property, kind, key of core.sensor_settings, tooltip), listed with the role's other properties
+from .role_properties import LATCH_TIP, SENSOR_PROPERTIES
 
 
 def add_sensor_properties(obj, layout):
@@ -39,8 +24,7 @@ def add_sensor_properties(obj, layout):
             value = 0.0
         roles.add_property(obj, kind, prop, tip, value)
     roles.add_property(obj, "App::PropertyEnumeration", "Latch",
-                       "step: edges on the step grid; encoder: latched in motion after the "
-                       "sensor's response; sampled: at the controller's next read")
+                       LATCH_TIP)
     obj.Latch = list(LATCHES)
     obj.Latch = layout.scan.latch
 

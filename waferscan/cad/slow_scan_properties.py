@@ -8,22 +8,11 @@ from dataclasses import replace
 
 from ..core import slow_scan
 from . import roles
+from .role_properties import SLOW_SCAN_PROPERTIES
 
-PROPERTIES = (
-    # (property, kind, ScanParameters field, tooltip)
-    ("Jab", "App::PropertyLength", "jab", "Slow scan: how far the fork advances into each "
-     "pocket along its heading (0: no jab)"),
-    ("Sweep", "App::PropertyAngle", "sweep", "Slow scan: the wrist turns by plus and minus "
-     "this at each pocket (0: no sweep)"),
-    ("SweepRadius", "App::PropertyLength", "sweep_radius", "Distance from the wrist axis to the "
-     "beam's midpoint along the fork's heading"),
-    ("ArmSpeed", "App::PropertySpeed", "arm_speed", "Speed of the jab's straight advance"),
-    ("ArmAcceleration", "App::PropertyAcceleration", "arm_acceleration",
-     "Acceleration of the jab's straight advance"),
-    ("WristSpeed", "App::PropertyFloat", "wrist_speed", "Speed of the sweep in degrees/s"),
-    ("WristAcceleration", "App::PropertyFloat", "wrist_acceleration",
-     "Acceleration of the sweep in degrees/s²"),
-)
+# (property, kind, ScanParameters field, tooltip): listed with the role's other properties
+# in role_properties.
+PROPERTIES = SLOW_SCAN_PROPERTIES
 
 
 def add_to(obj, scan):

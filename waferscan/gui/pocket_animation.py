@@ -162,7 +162,7 @@ class PocketTaskPanel(ClosableTaskPanel):
         form.addRow("Arm", self.amount)
         form.addRow("Beam", self.beam)
         form.addRow("Found", self.found)
-        self.status = self.leaf = QtGui.QLabel("")
+        self.status = self.alive_while_shown = QtGui.QLabel("")
         self.status.setWordWrap(True)
         box = QtGui.QVBoxLayout(self.form)
         box.addWidget(about)
