@@ -700,6 +700,13 @@ def contract(report):
     else:
         checks.append((None, "waferscan layout + scan of 10,000 wafers: not measured "
                              "(--quick goes to 1,000)"))
+    spot = report.get("spot") or {}
+    if "1 mm spot exact scan_layout" in spot:
+        grid, exact = spot["1 mm spot scan_layout"], spot["1 mm spot exact scan_layout"]
+        checks.append((max(grid, exact) <= 0.020,
+                       f"the paper with a 1 mm beam spot (SPEC §10, threshold 0.5): scan_layout "
+                       f"{grid * 1000:.1f} ms on the step grid, {exact * 1000:.1f} ms with exact "
+                       f"edges (<= 20 ms)"))
     floor = _find(rows, "startup", "freecadcmd import Part, numpy")
     for name, what in (("waferscan scan", "waferscan scan LAYOUT.FCStd"),
                        ("freecadcmd -c waferscan scan", "freecadcmd -c \"... c.main(['scan', "
