@@ -1,9 +1,10 @@
 """Beam-wafer geometry: the exact segment-disc test, the paper's mid-plane test, the accessibility
 check and the closed-form range of scan positions over which a beam hits a wafer.
 
-The exact test is written twice, once for Python floats (the ``loop`` engine, step by step as the
-paper does) and once for numpy arrays (the ``vector`` engine). Both spell out the same arithmetic
-in the same order, so they give bit-identical answers; a test keeps them so.
+The exact test runs on Python floats (the ``loop`` engine, step by step as the paper does) and on
+numpy arrays (the ``vector`` engine). The beam's frame and the rim's roots are one formulation
+shared by both; the thickness band is spelled out in each with the same arithmetic in the same
+order, so they give bit-identical answers; a test keeps them so.
 """
 
 from __future__ import annotations
@@ -93,11 +94,42 @@ def _rim_span(qq, pq, c):
     disc = pq * pq - qq * c
     if disc < 0.0:
         return None
+    return _rim_roots(qq, pq, c, disc, _FloatOps)
+
+
+class _FloatOps:
+    """The operations ``_rim_roots`` needs, for Python floats."""
+    sqrt = staticmethod(math.sqrt)
+    copysign = staticmethod(math.copysign)
+    minimum = staticmethod(min)
+    maximum = staticmethod(max)
+
+    @staticmethod
+    def ratio_or_zero(num, den):
+        return num / den if den != 0.0 else 0.0
+
+
+class _ArrayOps:
+    """The operations ``_rim_roots`` needs, for numpy arrays (made when first needed: importing
+    numpy costs ~70 ms that the loop engine need not pay)."""
+
+    def __init__(self, np):
+        self.sqrt = np.sqrt
+        self.copysign = np.copysign
+        self.minimum = np.minimum
+        self.maximum = np.maximum
+        self.ratio_or_zero = lambda num, den: np.where(den != 0.0, num / den, 0.0)
+
+
+def _rim_roots(qq, pq, c, disc, ops):
+    """The roots (low, high) of qq*lam^2 + 2*pq*lam + c = 0, disc = pq^2 - qq*c >= 0 and qq != 0
+    (where not, the caller masks the answer), for floats (``ops`` = _FloatOps) and numpy arrays
+    (an _ArrayOps) alike: the one formulation both tests use, so they agree bit for bit."""
     # The root pair without cancellation: q/qq and c/q.
-    s = -pq - math.copysign(math.sqrt(disc), pq)
+    s = -pq - ops.copysign(ops.sqrt(disc), pq)
     r1 = s / qq
-    r2 = c / s if s != 0.0 else 0.0
-    return (min(r1, r2), max(r1, r2))
+    r2 = ops.ratio_or_zero(c, s)
+    return (ops.minimum(r1, r2), ops.maximum(r1, r2))
 
 
 def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness,
@@ -123,11 +155,9 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
         qq_zero = qq == 0.0
         disc = pq * pq - qq * c
         ok &= np.where(qq_zero, c <= 0.0, disc >= 0.0)
-        s = -pq - np.copysign(np.sqrt(np.maximum(disc, 0.0)), pq)
-        r1 = s / qq
-        r2 = np.where(s != 0.0, c / s, 0.0)
-        lo = np.where(qq_zero, lo, np.maximum(lo, np.minimum(r1, r2)))
-        hi = np.where(qq_zero, hi, np.minimum(hi, np.maximum(r1, r2)))
+        rim_lo, rim_hi = _rim_roots(qq, pq, c, np.maximum(disc, 0.0), _ArrayOps(np))
+        lo = np.where(qq_zero, lo, np.maximum(lo, rim_lo))
+        hi = np.where(qq_zero, hi, np.minimum(hi, rim_hi))
         return ok & (lo <= hi)
 
 
