@@ -1,9 +1,10 @@
 """Beam-wafer geometry: the exact segment-disc test, the paper's mid-plane test, the accessibility
 check and the closed-form range of scan positions over which a beam hits a wafer.
 
-The exact test is written twice, once for Python floats (the ``loop`` engine, step by step as the
-paper does) and once for numpy arrays (the ``vector`` engine). Both spell out the same arithmetic
-in the same order, so they give bit-identical answers; a test keeps them so.
+The exact test runs on Python floats (the ``loop`` engine, step by step as the paper does) and on
+numpy arrays (the ``vector`` engine). The beam's frame and the rim's roots are one formulation
+shared by both; the thickness band is spelled out in each with the same arithmetic in the same
+order, so they give bit-identical answers; a test keeps them so.
 """
 
 from __future__ import annotations
@@ -93,11 +94,42 @@ def _rim_span(qq, pq, c):
     disc = pq * pq - qq * c
     if disc < 0.0:
         return None
+    return _rim_roots(qq, pq, c, disc, _FloatOps)
+
+
+class _FloatOps:
+    """The operations ``_rim_roots`` needs, for Python floats."""
+    sqrt = staticmethod(math.sqrt)
+    copysign = staticmethod(math.copysign)
+    minimum = staticmethod(min)
+    maximum = staticmethod(max)
+
+    @staticmethod
+    def ratio_or_zero(num, den):
+        return num / den if den != 0.0 else 0.0
+
+
+class _ArrayOps:
+    """The operations ``_rim_roots`` needs, for numpy arrays (made when first needed: importing
+    numpy costs ~70 ms that the loop engine need not pay)."""
+
+    def __init__(self, np):
+        self.sqrt = np.sqrt
+        self.copysign = np.copysign
+        self.minimum = np.minimum
+        self.maximum = np.maximum
+        self.ratio_or_zero = lambda num, den: np.where(den != 0.0, num / den, 0.0)
+
+
+def _rim_roots(qq, pq, c, disc, ops):
+    """The roots (low, high) of qq*lam^2 + 2*pq*lam + c = 0, disc = pq^2 - qq*c >= 0 and qq != 0
+    (where not, the caller masks the answer), for floats (``ops`` = _FloatOps) and numpy arrays
+    (an _ArrayOps) alike: the one formulation both tests use, so they agree bit for bit."""
     # The root pair without cancellation: q/qq and c/q.
-    s = -pq - math.copysign(math.sqrt(disc), pq)
+    s = -pq - ops.copysign(ops.sqrt(disc), pq)
     r1 = s / qq
-    r2 = c / s if s != 0.0 else 0.0
-    return (min(r1, r2), max(r1, r2))
+    r2 = ops.ratio_or_zero(c, s)
+    return (ops.minimum(r1, r2), ops.maximum(r1, r2))
 
 
 def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness,
@@ -123,11 +155,9 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
         qq_zero = qq == 0.0
         disc = pq * pq - qq * c
         ok &= np.where(qq_zero, c <= 0.0, disc >= 0.0)
-        s = -pq - np.copysign(np.sqrt(np.maximum(disc, 0.0)), pq)
-        r1 = s / qq
-        r2 = np.where(s != 0.0, c / s, 0.0)
-        lo = np.where(qq_zero, lo, np.maximum(lo, np.minimum(r1, r2)))
-        hi = np.where(qq_zero, hi, np.minimum(hi, np.maximum(r1, r2)))
+        rim_lo, rim_hi = _rim_roots(qq, pq, c, np.maximum(disc, 0.0), _ArrayOps(np))
+        lo = np.where(qq_zero, lo, np.maximum(lo, rim_lo))
+        hi = np.where(qq_zero, hi, np.minimum(hi, rim_hi))
         return ok & (lo <= hi)
 
 
@@ -331,8 +361,8 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
         return bowed_translation_range(emitter, beam, axis, wafer, tol, translation_range)
     # Scalars, not tuples from generators, up to the common case below: this runs once per
     # wafer of every analytic scan (the same arithmetic in the same order as _dot).
-    ex, ey, ez = e = beam.direction
-    nx, ny, nz = n = wafer.normal
+    ex, ey, ez = beam.direction
+    nx, ny, nz = wafer.normal
     cx, cy, cz = wafer.center
     wx, wy, wz = emitter[0] - cx, emitter[1] - cy, emitter[2] - cz
     ax, ay, az = axis
@@ -347,17 +377,39 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     t = wafer.thickness
 
     if en == 0.0 and an != 0.0 and gx == 0.0 and gy == 0.0 and gz == 0.0:
-        # The common case: a level wafer, the beam parallel to its faces, the lift along its
-        # axis. The region is a rectangle: the faces bound tau, the rim bounds lam alone.
-        span = _rim_span(qx * qx + qy * qy + qz * qz, px * qx + py * qy + pz * qz,
-                         px * px + py * py + pz * pz - r2)
-        if span is None or span[1] < -tol or span[0] > beam.length + tol:
-            return None
-        low, high = (-tol - wn) / an, (t + tol - wn) / an
-        return (min(low, high), max(low, high))
+        return _level_wafer_range(wn, an, (px, py, pz), (qx, qy, qz), r2, t, beam.length, tol)
     p, q, g = (px, py, pz), (qx, qy, qz), (gx, gy, gz)
+    bounds = _boundary_lines(wn, en, an, p, q, g, r2, t, beam.length, tol)
+    if bounds is None:
+        return None
+    lines, conic = bounds
+    candidates = _corner_candidates(lines, conic, p, q, g, r2)
+    return _feasible_range(candidates, wn, en, an, p, q, g, r, r2, t, beam.length, tol)
 
-    lines = [(1.0, 0.0, -tol), (1.0, 0.0, beam.length + tol)]
+
+def _level_wafer_range(wn, an, p, q, r2, t, length, tol):
+    """``translation_range``'s common case: a level wafer, the beam parallel to its faces, the
+    lift along its axis (an = axis.n != 0, nothing of the axis across the normal). The region is
+    a rectangle: the faces bound tau, the rim bounds lam alone. p and q: the emitter's offset and
+    the beam's direction across the normal; r2 the inflated radius squared."""
+    px, py, pz = p
+    qx, qy, qz = q
+    span = _rim_span(qx * qx + qy * qy + qz * qz, px * qx + py * qy + pz * qz,
+                     px * px + py * py + pz * pz - r2)
+    if span is None or span[1] < -tol or span[0] > length + tol:
+        return None
+    low, high = (-tol - wn) / an, (t + tol - wn) / an
+    return (min(low, high), max(low, high))
+
+
+def _boundary_lines(wn, en, an, p, q, g, r2, t, length, tol):
+    """The straight boundaries of ``translation_range``'s (lam, tau) region, as lines
+    alpha*lam + beta*tau = gamma: the beam's two ends, the two faces (unless the beam and the
+    axis both run along them), and the rim when it degenerates to two parallel lines. Returns
+    (lines, conic), conic True when the rim is a true conic still to be intersected; None when
+    the region is empty. p, q, g: the emitter's offset, the beam's direction and the axis across
+    the normal; wn, en, an their parts along it."""
+    lines = [(1.0, 0.0, -tol), (1.0, 0.0, length + tol)]
     if en == 0.0 and an == 0.0:
         if not -tol <= wn <= t + tol:
             return None
@@ -383,7 +435,13 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
         lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
     else:
         conic = True
+    return lines, conic
 
+
+def _corner_candidates(lines, conic, p, q, g, r2):
+    """The points (lam, tau) where the region's extremes in tau may lie: every crossing of two
+    boundary lines and, when the rim is a conic, where each line crosses it and where it is
+    tangent to a line tau = const."""
     candidates = []
     for i, first in enumerate(lines):
         for second in lines[i + 1:]:
@@ -394,12 +452,17 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
         for line in lines:
             candidates += _line_meets_circle(line, p, q, g, r2)
         # Where the rim is tangent to tau = const: d/dlam |p + lam q + tau g|^2 = 0.
-        candidates += _line_meets_circle((qq, _dot(q, g), -_dot(q, p)), p, q, g, r2)
+        candidates += _line_meets_circle((_dot(q, q), _dot(q, g), -_dot(q, p)), p, q, g, r2)
+    return candidates
 
+
+def _feasible_range(candidates, wn, en, an, p, q, g, r, r2, t, length, tol):
+    """(lowest, highest) tau among the candidates that lie in the region (on the beam, between
+    the faces, within the rim, each with 1e-9 mm of slack for rounding); None if none does."""
     slack = 1e-9
     feasible = []
     for lam, tau in candidates:
-        if not -tol - slack <= lam <= beam.length + tol + slack:
+        if not -tol - slack <= lam <= length + tol + slack:
             continue
         h = wn + lam * en + tau * an
         if not -tol - slack <= h <= t + tol + slack:
