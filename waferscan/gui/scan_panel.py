@@ -74,6 +74,15 @@ class ScanTaskPanel(ClosableTaskPanel):
         layout_box = QtGui.QVBoxLayout(self.form)
         layout_box.addWidget(about)
         layout_box.addLayout(form)
+        # Issues 14 and 17: the sensor's and the slow scan's settings, edited where scans run.
+        from ..cad.reader import DocumentScene, read_layout
+        from .sensor_section import SensorSection
+
+        self.settings_changed = False  # then Replay scans anew (commands.play_scan)
+        self.sensor = SensorSection(animation.doc,
+                                    lambda doc: read_layout(doc, DocumentScene.of(doc)),
+                                    self._settings_applied)
+        layout_box.addWidget(self.sensor.box)
         layout_box.addWidget(self.progress)
         from .signal_view import live_trace  # SPEC §10: b(z) beside the animation
 
@@ -105,6 +114,9 @@ class ScanTaskPanel(ClosableTaskPanel):
             # Later: the replay replaces this panel, whose button is still being clicked.
             seconds = self.speed.value()
             QtCore.QTimer.singleShot(0, lambda: self.on_replay(seconds))
+
+    def _settings_applied(self):
+        self.settings_changed = True
 
     def _buttons(self):
         if not self.is_open():  # FreeCAD closed the panel; the animation ran on
