@@ -15,10 +15,12 @@ from .qt import ClosableTaskPanel
 class ScanTaskPanel(ClosableTaskPanel):
     """Controls for a ``ScanAnimation``; closing the panel stops the animation."""
 
-    def __init__(self, animation, on_completed=None, on_replay=None):
+    def __init__(self, animation, on_completed=None, on_replay=None, transaction=None):
         self.animation = animation
         self.on_completed = on_completed
         self.on_replay = on_replay  # plays the same result again, in a fresh panel
+        # transaction(doc, name): one undo step (commands.transaction, passed in: commands
+        # imports this module) for the Sensor and slow scan section's writes.
         scan = animation.scan
         layout = animation.result.layout
         self.form = QtGui.QWidget()
@@ -81,7 +83,7 @@ class ScanTaskPanel(ClosableTaskPanel):
         self.settings_changed = False  # then Replay scans anew (commands.play_scan)
         self.sensor = SensorSection(animation.doc,
                                     lambda doc: read_layout(doc, DocumentScene.of(doc)),
-                                    self._settings_applied)
+                                    transaction, self._settings_applied)
         layout_box.addWidget(self.sensor.box)
         layout_box.addWidget(self.progress)
         from .signal_view import live_trace  # SPEC §10: b(z) beside the animation

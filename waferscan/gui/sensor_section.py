@@ -36,11 +36,13 @@ def _number(value):
 
 class SensorSection:
     """The section's widgets; ``box`` goes into the panel. ``check(doc)`` is the readers' check
-    (raises InputError for a value they refuse); ``applied`` is called after a change is
-    written."""
+    (raises InputError for a value they refuse); ``transaction(doc, name)`` the context of one
+    undo step (commands.transaction, which aborts when its block raises); ``applied`` is called
+    after a change is written."""
 
-    def __init__(self, doc, check, applied=None):
+    def __init__(self, doc, check, transaction, applied=None):
         self.doc, self.check, self.applied = doc, check, applied
+        self.transaction = transaction
         self.box = QtGui.QWidget()
         self.toggle = QtGui.QToolButton()
         self.toggle.setText("Sensor and slow scan")
@@ -120,8 +122,6 @@ class SensorSection:
         """Write the fields to ScanSettings in one undo step, checked by the scan's readers;
         a refused value: the message says why and the document is left as it was. True when
         written."""
-        from .commands import transaction
-
         obj = settings_object(self.doc)
         try:
             values = self.values()
@@ -133,7 +133,7 @@ class SensorSection:
             self.message.setText("No change.")
             return False
         try:
-            with transaction(self.doc, "WaferScan sensor and slow scan"):
+            with self.transaction(self.doc, "WaferScan sensor and slow scan"):
                 for prop, value in values.items():
                     setattr(obj, prop, value)
                 self.check(self.doc)  # the readers' own checks; raising aborts the transaction
