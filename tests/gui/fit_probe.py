@@ -75,6 +75,12 @@ def scan_panel_fits():
     result["position_text"] = panel.z.text()
     result["position_has_arrows"] = isinstance(panel.z, QtGui.QAbstractSpinBox)
     window_shot("gui-scan-panel-264.png", dock_width=COMBO_WIDTH)
+    panel.sensor.toggle.click()  # the Sensor and slow scan section opened: it fits too
+    Gui.updateGui()
+    result["scan_panel_sensor"] = clipped(panel.form)
+    result["sensor_fields_shown"] = sum(f.isVisible() for f in panel.sensor.fields.values())
+    window_shot("gui-scan-panel-sensor-264.png", dock_width=COMBO_WIDTH)
+    panel.sensor.toggle.click()
     panel.stop_button.click()
     result["after_stop"] = [panel.replay_button.isEnabled(), panel.status.text()]
     panel.replay_button.click()

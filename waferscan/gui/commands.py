@@ -255,8 +255,12 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
                                     else None, session)
     if panel:
         def replay(seconds):
-            play_scan(doc, result, show_results=show_results, duration_s=seconds)
-        _show_task_panel(ScanTaskPanel(animation, on_completed, replay))
+            if scan_panel.settings_changed:  # settings edited in the panel: scan with them
+                run_scan(doc, show_results=show_results, duration_s=seconds)
+            else:
+                play_scan(doc, result, show_results=show_results, duration_s=seconds)
+        scan_panel = ScanTaskPanel(animation, on_completed, replay, transaction)
+        _show_task_panel(scan_panel)
     elif on_completed is not None:
         animation.finished.connect(lambda: animation.completed and on_completed())
     animation.play()

@@ -15,10 +15,12 @@ from .qt import ClosableTaskPanel
 class ScanTaskPanel(ClosableTaskPanel):
     """Controls for a ``ScanAnimation``; closing the panel stops the animation."""
 
-    def __init__(self, animation, on_completed=None, on_replay=None):
+    def __init__(self, animation, on_completed=None, on_replay=None, transaction=None):
         self.animation = animation
         self.on_completed = on_completed
         self.on_replay = on_replay  # plays the same result again, in a fresh panel
+        # transaction(doc, name): one undo step (commands.transaction, passed in: commands
+        # imports this module) for the Sensor and slow scan section's writes.
         scan = animation.scan
         layout = animation.result.layout
         self.form = QtGui.QWidget()
@@ -74,6 +76,15 @@ class ScanTaskPanel(ClosableTaskPanel):
         layout_box = QtGui.QVBoxLayout(self.form)
         layout_box.addWidget(about)
         layout_box.addLayout(form)
+        # Issues 14 and 17: the sensor's and the slow scan's settings, edited where scans run.
+        from ..cad.reader import DocumentScene, read_layout
+        from .sensor_section import SensorSection
+
+        self.settings_changed = False  # then Replay scans anew (commands.play_scan)
+        self.sensor = SensorSection(animation.doc,
+                                    lambda doc: read_layout(doc, DocumentScene.of(doc)),
+                                    transaction, self._settings_applied)
+        layout_box.addWidget(self.sensor.box)
         layout_box.addWidget(self.progress)
         from .signal_view import live_trace  # SPEC §10: b(z) beside the animation
 
@@ -105,6 +116,9 @@ class ScanTaskPanel(ClosableTaskPanel):
             # Later: the replay replaces this panel, whose button is still being clicked.
             seconds = self.speed.value()
             QtCore.QTimer.singleShot(0, lambda: self.on_replay(seconds))
+
+    def _settings_applied(self):
+        self.settings_changed = True
 
     def _buttons(self):
         if not self.is_open():  # FreeCAD closed the panel; the animation ran on
