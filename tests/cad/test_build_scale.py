@@ -2,6 +2,7 @@
 every label, are O(n) an object: minutes for 10,000 wafers), and what it names reads back as it
 was; the preference it turns on for the build is put back as it was."""
 
+import re
 import xml.etree.ElementTree as ElementTree
 from dataclasses import replace
 
@@ -114,7 +115,11 @@ def test_layouts_are_saved_with_binary_shapes_and_read_back(closing, tmp_path, b
             assert group.GetBool("SaveBinaryBrep") is before
     finally:
         group.RemBool("SaveBinaryBrep")
-    shapes = [n for n in zipfile.ZipFile(path).namelist() if n.startswith("PartShape")]
+    # FreeCAD 0.20 names the shape files PartShape<N>.bin, 1.0 <Object>.Shape.bin (next to
+    # <Object>.Shape.Map.txt element maps; docs/FREECAD-1.0.md); the extension tells binary
+    # (.bin) from text (.brp) either way.
+    shapes = [n for n in zipfile.ZipFile(path).namelist()
+              if re.fullmatch(r"(PartShape\d*|.+\.Shape)\.(bin|brp)", n)]
     assert len(shapes) == 50 + 2 + 1 and all(n.endswith(".bin") for n in shapes)
     App.closeDocument(doc.Name)
     with opened_layout(path) as reopened:

@@ -7,8 +7,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import (artifact, finish, later, result, start, wait_for,  # noqa: E402
-                         window_shot)
+from probe_steps import (artifact, finish, later, result, start, task_dock,  # noqa: E402
+                         wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -21,7 +21,7 @@ state = {}
 
 def combo_view(width=COMBO_WIDTH):
     window = Gui.getMainWindow()
-    combo = [d for d in window.findChildren(QtGui.QDockWidget) if d.objectName() == "Combo View"]
+    combo = task_dock()
     window.resizeDocks(combo, [width], QtCore.Qt.Horizontal)
     Gui.updateGui()
     return combo[0].width()

@@ -66,6 +66,22 @@ def start(first_step, ms=800):
     later(first_step, ms)
 
 
+def task_dock():
+    """The dock that holds FreeCAD's task view, as a list of none or one: the Combo View in
+    0.20.2, its own "Tasks" dock in 1.0's default layout (docs/FREECAD-1.0.md)."""
+    import FreeCADGui as Gui
+
+    window = Gui.getMainWindow()
+    for widget in window.findChildren(QtGui.QWidget):
+        if widget.metaObject().className() != "Gui::TaskView::TaskView" or not widget.isVisible():
+            continue
+        while widget is not None and not isinstance(widget, QtGui.QDockWidget):
+            widget = widget.parentWidget()
+        if widget is not None:
+            return [widget]
+    return [d for d in window.findChildren(QtGui.QDockWidget) if d.objectName() == "Combo View"]
+
+
 def window_shot(name, dock_width=400):
     """A screenshot of the main window as a user sees it. Under Xvfb, grabbing the window
     leaves the OpenGL 3D view blank, so the view is rendered on its own and drawn in its place.
@@ -73,7 +89,7 @@ def window_shot(name, dock_width=400):
     import FreeCADGui as Gui
 
     window = Gui.getMainWindow()
-    combo = [d for d in window.findChildren(QtGui.QDockWidget) if d.objectName() == "Combo View"]
+    combo = task_dock()
     if combo:
         window.resizeDocks(combo, [dock_width], QtCore.Qt.Horizontal)
     Gui.updateGui()
