@@ -32,22 +32,30 @@ def beam_placement(beam):
 
 
 @contextmanager
+def document_preference_on(name):
+    """FreeCAD's boolean preference Document/``name`` turned on for the block, and put back as
+    it was afterwards (removed again when it was not set)."""
+    group = App.ParamGet("User parameter:BaseApp/Preferences/Document")
+    was_set = name in group.GetBools()
+    before = group.GetBool(name)
+    group.SetBool(name, True)
+    try:
+        yield
+    finally:
+        if was_set:
+            group.SetBool(name, before)
+        else:
+            group.RemBool(name)
+
+
+@contextmanager
 def unchecked_labels():
     """FreeCAD quirk: every label set, ``addObject``'s own included, compares the new label with
     every other object's unless the preference Document/DuplicateLabels is on: O(n) an object.
     Turned on while WaferScan builds a layout, whose labels are unique already (the scenario
     checks its names), and put back as it was afterwards."""
-    group = App.ParamGet("User parameter:BaseApp/Preferences/Document")
-    was_set = "DuplicateLabels" in group.GetBools()
-    before = group.GetBool("DuplicateLabels")
-    group.SetBool("DuplicateLabels", True)
-    try:
+    with document_preference_on("DuplicateLabels"):
         yield
-    finally:
-        if was_set:
-            group.SetBool("DuplicateLabels", before)
-        else:
-            group.RemBool("DuplicateLabels")
 
 
 def add_wafer(doc, wafer, container=None, frame=None):

@@ -14,7 +14,7 @@ import FreeCAD as App
 
 from ..core.errors import InputError
 from ..core.scenario import key_line, read_scenario
-from .builder import build_document
+from .builder import build_document, document_preference_on
 
 
 @contextmanager
@@ -93,17 +93,8 @@ def binary_shapes():
     instead of its text form: a layout of 10,000 wafers and 400 carriers is written in about
     half the time and opened a little faster. The preference Document/SaveBinaryBrep is put
     back as it was afterwards."""
-    group = App.ParamGet("User parameter:BaseApp/Preferences/Document")
-    was_set = "SaveBinaryBrep" in group.GetBools()
-    before = group.GetBool("SaveBinaryBrep")
-    group.SetBool("SaveBinaryBrep", True)
-    try:
+    with document_preference_on("SaveBinaryBrep"):
         yield
-    finally:
-        if was_set:
-            group.SetBool("SaveBinaryBrep", before)
-        else:
-            group.RemBool("SaveBinaryBrep")
 
 
 def save_document(doc, path):

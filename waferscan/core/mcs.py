@@ -314,19 +314,25 @@ def _pocket_cells(probe):
 
 
 def _mode_for(path):
-    """The permission bits a replacement of ``path`` gets: those of the file it replaces, or
-    for a new file what ``open`` would give (0666 less the umask)."""
+    """The permission bits a file written by ``atomic_write_text`` gets: those of the regular
+    file it replaces (not a symlink's), or for a new file what ``open`` would give (0666 less
+    the umask)."""
     try:
-        return stat.S_IMODE(os.stat(path).st_mode)
+        st = os.stat(path, follow_symlinks=False)
+        if stat.S_ISREG(st.st_mode):  # not a symlink's 0777
+            return stat.S_IMODE(st.st_mode)
+        raise FileNotFoundError(path)
     except OSError:
         umask = os.umask(0o022)
         os.umask(umask)
         return 0o666 & ~umask
 
 
-def atomic_write_text(path, text):
+def atomic_write_text(path, text, sync_folder=True):
     """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
-    half of one: write a temporary file beside it, flush it to disk, then rename over."""
+    half of one: write a temporary file beside it, flush it to disk, then rename over.
+    ``sync_folder``: flush the folder too (False: the caller does, as the MCS link does to
+    report a failure of its own)."""
     path = Path(path)
     mode = _mode_for(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -346,6 +352,8 @@ def atomic_write_text(path, text):
         except FileNotFoundError:
             pass
         raise
+    if not sync_folder:
+        return
     try:
         dir_fd = os.open(path.parent, os.O_RDONLY)
     except OSError:

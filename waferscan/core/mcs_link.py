@@ -41,14 +41,13 @@ import os
 import re
 import stat
 import sys
-import tempfile
 import time
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import InputError
-from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, format_results
+from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, atomic_write_text, format_results
 
 HISTORY = "history"
 LOCK = ".waferscan.lock"
@@ -287,20 +286,6 @@ class CommandFeed:
         return commands
 
 
-def _mode_for(path):
-    """The permission bits results.txt gets: those of the file it replaces, or 0666 less the
-    umask for a new one."""
-    try:
-        st = os.stat(path, follow_symlinks=False)
-        if stat.S_ISREG(st.st_mode):  # not a symlink's 0777
-            return stat.S_IMODE(st.st_mode)
-        raise FileNotFoundError(path)
-    except OSError:
-        umask = os.umask(0o022)
-        os.umask(umask)
-        return 0o666 & ~umask
-
-
 class McsLink:
     """One MCS folder. ``scan(command, should_stop)`` carries out SCF/SCS and returns a core
     ScanResult (or a ``Scanned``); it raises InputError for bad input and must call
@@ -349,10 +334,17 @@ class McsLink:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
-            try:
-                holder = os.read(fd, 32).decode("ascii", errors="replace").strip()
-            except OSError:
-                holder = ""
+            holder = ""
+            # The holder writes its pid just after taking the lock: a link started at the same
+            # moment may look in between, so it looks again for a little while.
+            for _ in range(50):
+                try:
+                    holder = os.pread(fd, 32, 0).decode("ascii", errors="replace").strip()
+                except OSError:
+                    break
+                if holder:
+                    break
+                time.sleep(0.01)
             os.close(fd)
             raise FolderBusy(self.folder, None, "another WaferScan link is watching this folder"
                              + (f" (process {holder})" if holder.isdigit() else "")
@@ -546,24 +538,7 @@ class McsLink:
         """results.txt replaced by ``text`` atomically and durably (file and folder flushed);
         then the history's link to it. Raises OSError when results.txt was not replaced."""
         target = self.folder / RESULTS
-        mode = _mode_for(target)
-        fd, tmp = tempfile.mkstemp(prefix=f".{RESULTS}.", suffix=".tmp", dir=self.folder)
-        try:
-            try:
-                os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode
-            except OSError:
-                pass  # a share without Unix modes (CIFS, vfat)
-            with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-                handle.write(text)
-                handle.flush()
-                os.fsync(handle.fileno())
-            os.replace(tmp, target)
-        except BaseException:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
-            raise
+        atomic_write_text(target, text, sync_folder=False)  # the folder's flush: below
         self._done = seq
         try:
             dir_fd = os.open(self.folder, os.O_RDONLY | os.O_DIRECTORY)
