@@ -182,10 +182,37 @@ def test_bad_slow_settings_name_file_line_and_key(tmp_path):
     assert done.stderr == f"waferscan: error: {params}:2: jab: must not be negative, got ' -2'\n"
 
 
-def test_a_jab_beyond_the_arms_reach_is_refused_naming_the_joint(doc):
+def test_a_jab_beyond_the_arms_reach_is_refused_naming_the_joint():
+    from waferscan.core.errors import InputError
+
+    # Wafers of 150 mm: the fork's tines (x = ±80) pass beside them, so a 600 mm jab is not
+    # refused for striking them (core/validation.py) and meets the arm's reach instead.
+    carrier = replace(LAYOUT.scanned_carrier, wafer_diameter=150.0, support_span=140.0)
+    small = build_document(replace(LAYOUT, carriers=(carrier,), wafers=()), "SlowScanReach")
+    try:
+        settings = next(o for o in small.Objects if "Jab" in o.PropertiesList)
+        settings.Jab = 600.0
+        with pytest.raises(InputError,
+                           match=r"the jab of 600 mm at .*(arm reaches|beyond its limits)"):
+            scan_document(small, "document")
+    finally:
+        App.closeDocument(small.Name)
+
+
+def test_the_documents_reader_refuses_a_jab_into_the_seated_wafers(doc):
+    # One check for every reader (core/validation.py): the tines (the beam's ends at x = ±80,
+    # y = 240) reach a seated wafer's rim after 400 - sqrt(150² - 80²) - 240 = 33.114 mm.
     from waferscan.core.errors import InputError
 
     settings = next(o for o in doc.Objects if "Jab" in o.PropertiesList)
-    settings.Jab = 600.0
-    with pytest.raises(InputError, match=r"the jab of 600 mm at .*(arm reaches|beyond its limits)"):
-        scan_document(doc, "document")
+    settings.Jab = 33.0
+    assert read_layout(doc).scan.jab == pytest.approx(33.0)
+    settings.Jab = 40.0
+    with pytest.raises(InputError) as caught:
+        read_layout(doc)
+    assert f"{settings.Label}.Jab: 40 mm would drive the fork's tines" in str(caught.value)
+    assert "after 33.114 mm" in str(caught.value)
+    settings.Jab = 26.6
+    settings.SweepRadius = 2e6
+    with pytest.raises(InputError, match=rf"{settings.Label}\.SweepRadius: must be at most "):
+        read_layout(doc)

@@ -223,9 +223,9 @@ def test_parameters_txt_sets_and_refuses_slow_settings():
     from waferscan.core.scenario import read_scenario
 
     paper = read_scenario(paper_scenario())
-    layout = apply_parameters(paper, parse_parameters("mode = slow\njab = 12.5\nsweep = 30\n"
+    layout = apply_parameters(paper, parse_parameters("mode = slow\njab = 6.25\nsweep = 30\n"
                                                       "wrist_speed = 45\n"))
-    assert (layout.scan.jab, layout.scan.sweep, layout.scan.wrist_speed) == (12.5, 30.0, 45.0)
-    assert "jab = 12.5\nsweep = 30.0\nwrist_speed = 45.0\n" in format_parameters(layout)
+    assert (layout.scan.jab, layout.scan.sweep, layout.scan.wrist_speed) == (6.25, 30.0, 45.0)
+    assert "jab = 6.25\nsweep = 30.0\nwrist_speed = 45.0\n" in format_parameters(layout)
     with pytest.raises(InputError, match=r"parameters.txt:2: sweep: must be at most 90"):
         apply_parameters(paper, parse_parameters("jab = 1\nsweep = 91\n"))

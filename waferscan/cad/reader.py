@@ -22,6 +22,7 @@ from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParamete
 from . import roles
 from .disc import NotADisc, disc_of
 from .features import SETTINGS_PROPERTIES
+from .role_properties import SENSOR_PROPERTIES, SLOW_SCAN_PROPERTIES
 from .scene import scene_instances
 from .sensor_properties import read_sensor_settings
 
@@ -231,7 +232,8 @@ def _check_values(scene, scanner, carriers, beam, lift_axis, layout=None):
         raise scene.error(f"{holder.Label}.{_SCANNER_PROPERTIES.get(key, key)}: {message}")
     if group == "scan" and scene.settings:
         holder = roles.role_holder(scene.settings[0].obj)
-        prop = next((p for p, _, field, _ in SETTINGS_PROPERTIES if field == key), key)
+        prop = next((p for p, _, field, _ in SETTINGS_PROPERTIES + SENSOR_PROPERTIES
+                     + SLOW_SCAN_PROPERTIES if field == key), key)
         raise scene.error(f"{holder.Label}.{prop}: {message}")
     if group == "wafer" and index is not None and index < len(scene.wafers):
         raise scene.error(f"{scene.wafers[index].path}: {message}")

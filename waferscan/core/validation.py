@@ -31,6 +31,11 @@ MAX_COORDINATE = 1_000_000.0
 # A lift axis must climb: within about 84° of vertical (a Z component of at least 0.1).
 MIN_LIFT_Z = 0.1
 MAX_BASE_YAW = 360.0  # degrees
+# A jab or a sweep (SPEC §13) moves the fork across the beam, into the carrier: the beam must be
+# within about 84° of horizontal (a horizontal part of at least 0.1 after normalising), and the
+# fork's heading across it within about 84° of the way into the carrier's opening.
+MIN_BEAM_ACROSS = 0.1
+MIN_HEADING_INTO = 0.1
 
 
 class Problem(NamedTuple):
@@ -186,6 +191,124 @@ def robot_problems(robot):
     return found
 
 
+def _slow_key(scan):
+    """The setting a jab's or sweep's problem is blamed on: the jab when one is made."""
+    return "jab" if scan.jab > 0.0 else "sweep"
+
+
+def _tine_entry(end, heading, center, radius):
+    """The advance (mm, >= 0) along ``heading`` at which the plan point ``end`` enters the disc
+    of ``radius`` about ``center``: 0 when it already is inside, None when it never does."""
+    dx, dy = end[0] - center[0], end[1] - center[1]
+    outside = dx * dx + dy * dy - radius * radius
+    if outside < 0.0:
+        return 0.0
+    along = dx * heading[0] + dy * heading[1]
+    disc = along * along - outside
+    if along >= 0.0 or disc < 0.0:  # moving away, or passing beside the disc
+        return None
+    return -along - math.sqrt(disc)
+
+
+def max_jab(layout, heading):
+    """The deepest jab (mm) that keeps the fork's tines (the beam's two ends, seen from above)
+    outside a wafer seated in the scanned carrier: the beam is between the tines, and a tine
+    that reaches the wafer's rim at the beam's height would strike it. None: never."""
+    beam, carrier = layout.beam, layout.scanned_carrier
+    ends = [(beam.emitter[0] + lam * beam.direction[0], beam.emitter[1] + lam * beam.direction[1])
+            for lam in (0.0, beam.length)]
+    entries = [e for e in (_tine_entry(end, heading, carrier.center,
+                                       0.5 * carrier.wafer_diameter) for end in ends)
+               if e is not None]
+    return min(entries) if entries else None
+
+
+def slow_scan_problems(layout):
+    """The problems of a jab or a sweep (SPEC §13) with the layout's beam and scanned carrier:
+    a fork with no heading (a beam too steep), a heading that runs along the carrier's opening,
+    a jab that would drive the tines into a seated wafer, a jab or a wrist radius beyond the
+    layout's limits, a motion whose simulated time overflows. Checked whenever a jab or a sweep
+    is set, whatever the mode: a mode given later (``--mode slow``) must not meet them first."""
+    scan = layout.scan
+    if not (scan.jab > 0.0 or scan.sweep > 0.0):
+        return []
+    key = _slow_key(scan)
+    value = f"{getattr(scan, key):g} {'mm' if key == 'jab' else 'degrees'}"
+    motion = ("the jab advances the fork across the beam" if key == "jab"
+              else "the sweep turns the beam about a vertical wrist axis behind it")
+    found = []
+    for k in ("jab", "sweep_radius"):
+        v = getattr(scan, k)
+        if abs(v) > MAX_COORDINATE:
+            found.append(Problem(k, f"must be at most {MAX_COORDINATE:,.0f} mm, got {v:g}",
+                                 group="scan"))
+    if found:
+        return found
+    ex, ey, ez = layout.beam.direction
+    norm = math.sqrt(ex * ex + ey * ey + ez * ez)
+    across = math.hypot(ex, ey) / norm
+    if across < MIN_BEAM_ACROSS:
+        return [Problem(key, f"{value} needs a beam that crosses the pocket: {motion}, "
+                             f"but the beam's direction "
+                             f"{_show(tuple(layout.beam.direction))} is (nearly) vertical: "
+                             f"its horizontal part is {across:.3g} after normalising, at least "
+                             f"{MIN_BEAM_ACROSS:g} needed", group="scan")]
+    hx, hy = -ey / (across * norm), ex / (across * norm)
+    carrier = layout.scanned_carrier
+    fx, fy = carrier.front
+    into = abs(hx * fx + hy * fy) / math.hypot(fx, fy)
+    if into < MIN_HEADING_INTO:
+        return [Problem(key, f"{value} needs a beam across the carrier's opening: the "
+                             f"fork's heading (across the beam "
+                             f"{_show(tuple(layout.beam.direction))}) runs along carrier "
+                             f"{carrier.name}'s opening (front {_show(tuple(carrier.front))}), "
+                             f"not into it", group="scan")]
+    if hx * fx + hy * fy > 0.0:
+        hx, hy = -hx, -hy
+    if scan.jab > 0.0:
+        deepest = max_jab(layout, (hx, hy))
+        if deepest is not None and scan.jab > deepest:
+            where = ("already stands inside" if deepest == 0.0
+                     else f"reaches it after {deepest:.3f} mm")
+            found.append(Problem("jab", f"{scan.jab:g} mm would drive the fork's tines (the "
+                                        f"beam's ends) into a wafer seated in carrier "
+                                        f"{carrier.name!r}: a tine {where}", group="scan"))
+    from .slow_scan import move_time  # the durations' own arithmetic
+
+    for k, distance, speed, acceleration in (
+            ("arm_speed", scan.jab, scan.arm_speed, scan.arm_acceleration),
+            ("wrist_speed", 2.0 * scan.sweep, scan.wrist_speed, scan.wrist_acceleration)):
+        seconds = move_time(distance, speed, acceleration) * 4.0 * MAX_SLOTS
+        if not math.isfinite(seconds):
+            bad = k if not math.isfinite(distance / speed) else k.replace("speed", "acceleration")
+            found.append(Problem(bad, f"must be larger: {getattr(scan, bad):g} makes the "
+                                      f"simulated time of a pocket's motion overflow",
+                                 group="scan"))
+    return found
+
+
+def duration_problems(scan):
+    """The lift's speed and acceleration must keep the simulated durations (SPEC §13: a fast and
+    a slow scan's, reported for every scan) finite: bounded here by every stepped position and
+    every slot moving the whole travel."""
+    from .slow_scan import lift_acceleration, move_time
+
+    travel = max(abs(scan.final_z - scan.start_z), scan.z_step)
+    moves = 4.0 * (MAX_SLOTS + schema.MAX_POSITIONS)
+    seconds = moves * (move_time(travel, scan.scan_speed, lift_acceleration(scan))
+                       + scan.sensor_response)
+    if math.isfinite(seconds):
+        return []
+    if not math.isfinite(moves * scan.sensor_response):
+        key = "sensor_response"
+    elif not math.isfinite(moves * travel / scan.scan_speed):
+        key = "scan_speed"
+    else:
+        key = "acceleration"
+    return [Problem(key, f"must be larger: {getattr(scan, key):g} makes the scan's simulated "
+                         f"duration overflow", group="scan")]
+
+
 def layout_problems(layout):
     """Every problem of a layout, in the order a reader would meet the values: carriers, beam,
     scan, robot, wafers. An empty list means the layout makes a scan of bounded cost."""
@@ -197,6 +320,9 @@ def layout_problems(layout):
         found += carrier_problems(carrier, i)
     found += beam_problems(layout.beam, layout.lift_axis)
     found += scan_problems(layout.scan)
+    if not found:
+        found += duration_problems(layout.scan)  # SPEC §13: every scan reports its durations
+        found += slow_scan_problems(layout)  # SPEC §13: the jab and sweep with beam and carrier
     found += robot_problems(layout.robot)
     if len(layout.wafers) > MAX_WAFERS:
         found.append(Problem("wafer", f"{len(layout.wafers):,} wafers; at most {MAX_WAFERS:,}"))
