@@ -136,7 +136,17 @@ class SlotCodeDialog(QtGui.QDialog):
         side.addStretch(1)
         side.addWidget(copy)
         lower = QtGui.QHBoxLayout()
-        lower.addWidget(self.side_view, 1)
+        self.plan_view = None
+        if result.pockets:  # SPEC §13: each probed pocket seen from above, beside the side view
+            from .plan_view import PocketPlanView
+
+            self.plan_view = PocketPlanView(result, STATE_COLOURS, self)
+            self.views = QtGui.QTabWidget(self)
+            self.views.addTab(self.side_view, "Side view")
+            self.views.addTab(self.plan_view, "Pockets from above")
+            lower.addWidget(self.views, 1)
+        else:
+            lower.addWidget(self.side_view, 1)
         lower.addLayout(side)
         layout = QtGui.QVBoxLayout(self)
         layout.addWidget(self.code_label)

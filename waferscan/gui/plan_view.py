@@ -1,0 +1,208 @@
+"""A slow scan's pocket seen from above (SPEC §13): the wafer's outline (and where a seated wafer
+would be), the beam at the start pose, at the jab's first contact and deepest point, and at the
+sweep's first and last blocked angles, with the points where it met the wafer. Drawn from
+``core.pocket_plan`` only; a slot chooser picks the pocket."""
+
+from __future__ import annotations
+
+from PySide import QtCore, QtGui
+
+from ..core import pocket_plan as plans
+
+# (pen colour, pen style, width) of each beam; the contact points are dots of the same colour.
+BEAM_STYLES = {
+    plans.START: ((110, 110, 110), QtCore.Qt.DashLine, 1.5),
+    plans.DEEPEST: ((60, 60, 60), QtCore.Qt.DotLine, 1.5),
+    plans.FRONT: ((215, 25, 25), QtCore.Qt.SolidLine, 2.5),
+    plans.SWEEP_FIRST: ((30, 80, 220), QtCore.Qt.SolidLine, 2.5),
+    plans.SWEEP_LAST: ((0, 150, 110), QtCore.Qt.SolidLine, 2.5),
+}
+SEATED = (150, 150, 150)   # a seated wafer's outline, dashed
+WRIST = (120, 60, 0)
+CONTACT_RADIUS_PX = 4.5
+MARGIN_PX = 18
+
+
+class PlanCanvas(QtGui.QWidget):
+    """Paints one PocketPlan, fitted to its wafers and beams, the opening at the bottom (the
+    robot's side). ``drawn`` lists what the last paint drew: (what, label) pairs."""
+
+    def __init__(self, colours, parent=None):
+        super().__init__(parent)
+        self.colours = colours
+        self.plan = None
+        self.state = None
+        self.drawn = []
+        self.setMinimumSize(260, 260)
+        self.setToolTip("The pocket seen from above, the carrier's opening at the bottom: the "
+                        "wafer (filled), a seated wafer (dashed), the beam at the start pose, at "
+                        "the jab's first contact (red) and at the sweep's first (blue) and last "
+                        "(green) blocked angles; dots: where the beam met the wafer")
+
+    def set_plan(self, plan, state):
+        self.plan, self.state = plan, state
+        self.update()
+
+    def _bounds(self):
+        plan = self.plan
+        us, vs = [], []
+        for disc in (plan.seated, *plan.wafers):
+            us += [disc.center[0] - disc.radius, disc.center[0] + disc.radius]
+            vs += [disc.center[1] - disc.radius, disc.center[1] + disc.radius]
+        for beam in plan.beams:
+            for u, v in beam.ends:
+                us.append(u)
+                vs.append(v)
+        return min(us), max(us), min(vs), max(vs)
+
+    def to_pixel(self, u, v):
+        """The widget pixel (x, y) of the plan point (u, v) mm, as last fitted."""
+        u0, u1, v0, v1 = self._bounds()
+        top = MARGIN_PX + 16  # the title's line
+        width = self.width() - 2 * MARGIN_PX
+        height = self.height() - top - MARGIN_PX - 16  # and the legend's
+        scale = min(width / max(u1 - u0, 1e-9), height / max(v1 - v0, 1e-9))
+        x0 = MARGIN_PX + 0.5 * (width - scale * (u1 - u0))
+        y0 = top + 0.5 * (height - scale * (v1 - v0))
+        return (x0 + (u - u0) * scale, y0 + (v1 - v) * scale)
+
+    def scale(self):
+        """Pixels per mm of the current fit."""
+        a, b = self.to_pixel(0.0, 0.0), self.to_pixel(1.0, 0.0)
+        return b[0] - a[0]
+
+    def paintEvent(self, event):  # noqa: N802 (Qt's name)
+        painter = QtGui.QPainter(self)
+        painter.setRenderHint(QtGui.QPainter.Antialiasing)
+        painter.fillRect(self.rect(), QtGui.QColor(255, 255, 255))
+        self.drawn = []
+        small = painter.font()
+        small.setPointSize(7)
+        painter.setFont(small)
+        if self.plan is None:
+            painter.drawText(self.rect(), QtCore.Qt.AlignCenter, "no pocket was probed")
+            painter.end()
+            return
+        plan, k = self.plan, self.scale()
+
+        def point(p):
+            return QtCore.QPointF(*self.to_pixel(*p))
+
+        # A seated wafer's outline, dashed: what the jab and the sweep are compared with.
+        pen = QtGui.QPen(QtGui.QColor(*SEATED), 1.2, QtCore.Qt.DashLine)
+        painter.setPen(pen)
+        painter.setBrush(QtCore.Qt.NoBrush)
+        painter.drawEllipse(point(plan.seated.center), plan.seated.radius * k,
+                            plan.seated.radius * k)
+        self.drawn.append(("seated", plan.seated.name))
+        # The wafers the beam can reach at this height, filled in the slot's colour.
+        fill = QtGui.QColor(*self.colours.get(self.state, (200, 200, 200)))
+        for disc in plan.wafers:
+            painter.setPen(QtGui.QPen(fill.darker(150), 1.5))
+            light = QtGui.QColor(fill)
+            light.setAlpha(110)
+            painter.setBrush(light)
+            painter.drawEllipse(point(disc.center), disc.radius * k, disc.radius * k)
+            self.drawn.append(("wafer", disc.name))
+        painter.setBrush(QtCore.Qt.NoBrush)
+        if plan.wrist is not None:
+            x, y = self.to_pixel(*plan.wrist)
+            inside = 0 <= x <= self.width() and 0 <= y <= self.height()
+            painter.setPen(QtGui.QPen(QtGui.QColor(*WRIST), 1.5))
+            if inside:
+                painter.drawLine(QtCore.QPointF(x - 5, y - 5), QtCore.QPointF(x + 5, y + 5))
+                painter.drawLine(QtCore.QPointF(x - 5, y + 5), QtCore.QPointF(x + 5, y - 5))
+            self.drawn.append(("wrist", "inside" if inside else "below"))
+        for beam in plan.beams:
+            colour, style, width = BEAM_STYLES[beam.role]
+            painter.setPen(QtGui.QPen(QtGui.QColor(*colour), width, style))
+            painter.drawLine(point(beam.ends[0]), point(beam.ends[1]))
+            self.drawn.append((beam.role, beam.label))
+        # The contact points last, over everything, with their labels.
+        for beam in plan.beams:
+            if beam.contact is None:
+                continue
+            colour = QtGui.QColor(*BEAM_STYLES[beam.role][0])
+            painter.setPen(QtGui.QPen(colour.darker(130), 1.0))
+            painter.setBrush(colour)
+            at = point(beam.contact)
+            painter.drawEllipse(at, CONTACT_RADIUS_PX, CONTACT_RADIUS_PX)
+            painter.setBrush(QtCore.Qt.NoBrush)
+            painter.setPen(colour.darker(140))
+            right = at.x() < self.width() / 2
+            below = beam.role == plans.FRONT  # the front's label clear of the rim above it
+            box = QtCore.QRectF(at.x() + (8 if right else -128), at.y() + (7 if below else -17),
+                                120, 14)
+            align = (QtCore.Qt.AlignLeft if right else QtCore.Qt.AlignRight) | \
+                QtCore.Qt.AlignVCenter
+            shown = painter.boundingRect(box, align, beam.label).adjusted(-2, 0, 2, 0)
+            painter.fillRect(shown, QtGui.QColor(255, 255, 255, 210))  # readable on the wafer
+            painter.drawText(box, align, beam.label)
+            self.drawn.append(("contact", beam.label))
+        self._scale_bar(painter, k)
+        painter.setPen(QtGui.QColor(30, 30, 30))
+        painter.drawText(QtCore.QRectF(4, 2, self.width() - 8, 16),
+                         QtCore.Qt.AlignCenter, plan.title)
+        self.drawn.append(("title", plan.title))
+        legend = "dashed: start pose and a seated wafer · dotted: jab's deepest · red: front"
+        if plan.wrist is not None:
+            legend += " · blue/green: sweep's first/last"
+        painter.setPen(QtGui.QColor(80, 80, 80))
+        painter.drawText(QtCore.QRectF(4, self.height() - 16, self.width() - 8, 14),
+                         QtCore.Qt.AlignCenter, legend)
+        painter.end()
+
+
+    def _scale_bar(self, painter, k):
+        """A bar of a round length (10, 20, 50, 100 mm…), at least 40 px, top left (clear of
+        the wafer, which is round, and of the beams, which are at the bottom)."""
+        steps = [m * 10.0 ** e for e in range(1, 7) for m in (1.0, 2.0, 5.0)]
+        length = next((s for s in steps if s * k >= 40.0), steps[-1])
+        x, y = MARGIN_PX, MARGIN_PX + 34
+        painter.setPen(QtGui.QPen(QtGui.QColor(40, 40, 40), 1.5))
+        painter.drawLine(QtCore.QPointF(x, y), QtCore.QPointF(x + length * k, y))
+        for end in (x, x + length * k):
+            painter.drawLine(QtCore.QPointF(end, y - 3), QtCore.QPointF(end, y + 3))
+        painter.drawText(QtCore.QRectF(x, y - 16, 80, 14), QtCore.Qt.AlignLeft,
+                         f"{length:g} mm")
+        self.drawn.append(("scale bar", f"{length:g} mm"))
+
+
+class PocketPlanView(QtGui.QWidget):
+    """A slot chooser over a PlanCanvas: each probed pocket of a slow scan, seen from above."""
+
+    def __init__(self, result, colours, parent=None):
+        super().__init__(parent)
+        self.result = result
+        self.states = {s.slot: s.state for s in result.slot_map.slots}
+        self.chooser = QtGui.QComboBox(self)
+        self.chooser.setToolTip("The pocket to show: its jab and sweep seen from above")
+        self.slots = [p.slot for p in result.pockets]
+        for slot in self.slots:
+            self.chooser.addItem(f"slot {slot}  ({self.states.get(slot)})", slot)
+        self.canvas = PlanCanvas(colours, self)
+        top = QtGui.QHBoxLayout()
+        top.addWidget(QtGui.QLabel("Pocket seen from above:", self))
+        top.addWidget(self.chooser, 1)
+        layout = QtGui.QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addLayout(top)
+        layout.addWidget(self.canvas, 1)
+        self.chooser.currentIndexChanged.connect(self._chosen)
+        first = plans.chosen_slots(result, 1)
+        self.show_slot(first[0] if first else (self.slots[0] if self.slots else None))
+
+    def show_slot(self, slot):
+        """Show the pocket of ``slot`` (a probed one)."""
+        if slot is None:
+            self.canvas.set_plan(None, None)
+            return
+        index = self.slots.index(slot)
+        if self.chooser.currentIndex() != index:
+            self.chooser.setCurrentIndex(index)  # calls _chosen
+        else:
+            self._chosen(index)
+
+    def _chosen(self, index):
+        slot = self.slots[index]
+        self.canvas.set_plan(plans.pocket_plan(self.result, slot), self.states.get(slot))
