@@ -54,8 +54,11 @@ def check_plot_path(path):
                                           f"not {path.suffix or 'a file without a suffix'!r}")
 
 
-def plot_signal(result, path):
-    """Write the signal plot of a scan result to ``path`` (.png or .svg), atomically."""
+def plot_signal(result, path, drawn=None):
+    """Write the signal plot of a scan result to ``path`` (.png or .svg), atomically. A slow
+    scan with a jab or a sweep adds its chosen pockets seen from above (pocket_plot.py);
+    ``drawn``, a list, collects what those panels drew."""
+    drawn = [] if drawn is None else drawn
     check_plot_path(path)
     path = Path(path)
     import warnings
@@ -74,8 +77,10 @@ def plot_signal(result, path):
     edges = _edges(result)
     close = _close_up_runs(result)
     columns = max(1, len(close))
-    figure = plt.figure(figsize=(11, 6.5))
-    grid = figure.add_gridspec(2, columns, height_ratios=(1.0, 1.1), hspace=0.35, wspace=0.25)
+    pockets = bool(result.pockets)  # SPEC §13: a slow scan's pockets from above, a third row
+    figure = plt.figure(figsize=(11, 6.5 + 3.8 * pockets))
+    grid = figure.add_gridspec(2 + pockets, columns, height_ratios=(1.0, 1.1, 1.6)[:2 + pockets],
+                               hspace=0.35 + 0.15 * pockets, wspace=0.25)
     whole = figure.add_subplot(grid[0, :])
     _draw(whole, z, b, signal, plan, edges, result, labels=True)
     scan = result.layout.scan
@@ -87,6 +92,10 @@ def plot_signal(result, path):
         _draw(axis, z, b, signal, plan, edges, result, labels=False)
         axis.set_xlim(lo, hi)
         axis.set_title(title, fontsize=9)
+    if pockets:
+        from .pocket_plot import draw_pockets
+
+        draw_pockets(figure, grid[2, :], result, drawn)
     temporary = path.with_name(f".{path.name}.tmp{path.suffix}")
     try:
         figure.savefig(str(temporary), dpi=110)
