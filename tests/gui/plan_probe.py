@@ -25,6 +25,8 @@ def begin():
     dialog.show()
     view = dialog.plan_view
     result["beam_colours"] = {role: list(style[0]) for role, style in BEAM_STYLES.items()}
+    result["duration_label"] = dialog.duration_label.text()
+    result["durations"] = scanned.durations
     result["tabs"] = [dialog.views.tabText(i) for i in range(dialog.views.count())]
     dialog.views.setCurrentWidget(view)
     Gui.updateGui()

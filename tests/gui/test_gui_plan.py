@@ -117,5 +117,15 @@ def test_a_pocket_the_probes_never_blocked_shows_its_wafer_and_no_contact(gui):
                      "nothing") in drawn
 
 
+def test_the_dialog_shows_the_fast_and_slow_durations_side_by_side(gui):
+    from waferscan.core import slow_scan
+
+    layout = RESULT.layout
+    fast = slow_scan.fast_duration(layout.scan)
+    assert fast == pytest.approx((550.0 - 280.0) / 100.0)  # one stroke at scan_speed
+    slow = slow_scan.slow_duration(layout.scan, RESULT.plan, RESULT.pockets)
+    assert gui["duration_label"] == f"Simulated duration:\nfast {fast:.2f} s, slow {slow:.2f} s"
+
+
 def test_a_picture_of_the_dialog_is_left(gui):
     assert (ARTIFACTS / "gui-pocket-plan.png").stat().st_size > 10_000

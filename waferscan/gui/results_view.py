@@ -130,8 +130,18 @@ class SlotCodeDialog(QtGui.QDialog):
             swatch.setStyleSheet(f"background: rgb({r},{g},{b}); padding: 2px 6px;")
             legend.addWidget(swatch)
         self.side_view = SideView(result, STATE_COLOURS, self)
+        # SPEC §13: the simulated time of a fast and of a slow scan side by side (the trade-off).
+        durations = result.durations
+        self.duration_label = QtGui.QLabel(
+            f"Simulated duration:\nfast {durations['fast']:.2f} s, slow {durations['slow']:.2f} s",
+            self)
+        self.duration_label.setToolTip(
+            "A fast scan: one stroke at scan_speed. A slow scan: pocket by pocket, each Z step "
+            "from rest to rest with a read at rest, and the jab and the sweep at each pocket "
+            "(arm and wrist speeds and accelerations from the scan settings)")
         side = QtGui.QVBoxLayout()
         side.addWidget(self.e87_label)
+        side.addWidget(self.duration_label)
         side.addLayout(legend)
         side.addStretch(1)
         side.addWidget(copy)
