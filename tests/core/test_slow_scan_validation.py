@@ -84,6 +84,13 @@ def test_a_beam_along_the_lift_axis_into_the_carrier_has_a_heading_along_the_ope
                    "s.toml")
 
 
+def test_a_carrier_whose_opening_faces_away_from_the_fork():
+    # front = [0, 1]: the heading into the opening is -Y, and the carrier's centre (y = 400)
+    # lies 160 mm behind the beam (y = 240) along it: the jab would draw back.
+    refused(scenario(front="[0.0, 1.0]"), "jab", "160.000 mm behind", "faces away")
+    refused(scenario(front="[0.0, 1.0]", jab="0.0"), "sweep", "faces away")
+
+
 def test_a_jab_that_would_drive_the_tines_into_a_seated_wafer():
     # Hand computation: the beam's ends at x = ±80 mm, y = 240; a seated wafer's rim (r = 150
     # about (0, 400)) is at y = 400 - sqrt(150² - 80²) under them: they reach it after this.

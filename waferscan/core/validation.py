@@ -265,6 +265,17 @@ def slow_scan_problems(layout):
                              f"not into it", group="scan")]
     if hx * fx + hy * fy > 0.0:
         hx, hy = -hx, -hy
+    # The carrier must lie ahead of the start pose's beam along the heading: behind it (a front
+    # facing away from the robot) the jab would draw back and the wrist stand in the carrier.
+    beam = layout.beam
+    mid = [e + 0.5 * beam.length * d for e, d in zip(beam.emitter, beam.direction)]
+    ahead = (carrier.center[0] - mid[0]) * hx + (carrier.center[1] - mid[1]) * hy
+    if ahead <= 0.0:
+        return [Problem(key, f"{value} needs the carrier ahead of the fork: carrier "
+                             f"{carrier.name}'s centre is {-ahead:.3f} mm behind the start "
+                             f"pose's beam along the fork's heading into its opening (front "
+                             f"{_show(tuple(carrier.front))}): the opening faces away",
+                        group="scan")]
     if scan.jab > 0.0:
         deepest = max_jab(layout, (hx, hy))
         if deepest is not None and scan.jab > deepest:
