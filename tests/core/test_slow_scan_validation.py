@@ -166,3 +166,4 @@ def test_the_command_line_says_it_in_one_line_with_exit_status_2(tmp_path):
     done = waferscan("scan", "fast.toml", "--mode", "slow", cwd=tmp_path)
     assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
     assert done.stderr.startswith(f"waferscan: error: fast.toml:{line_of(text, 'jab')}: ")
+

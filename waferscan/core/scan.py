@@ -67,6 +67,8 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
     probe_warnings += [why for slot, why in sorted(dict(swept_off).items())
                        if slot_map.slots[slot - 1].state == POSITION_ERROR]
+    notice = slow_scan.slow_fast_notice(scan)  # SPEC §13: a jab or sweep a fast scan ignores
+    probe_warnings += [notice] if notice else []
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
                              scanned_range(scan, window)) + tuple(probe_warnings)
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings,

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from .engines import reachable_wafers
 from .geometry import wafer_bounds
-from .mapping import LIMIT_SLACK, STATE_NAMES, SlotPlan
+from .mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
 from .model import DOWN, SLOW, UP, UPDOWN
 
 
@@ -77,8 +77,12 @@ class ScanResult:
         """Simulated seconds of a fast and of a slow scan of this layout (SPEC §13)."""
         from . import slow_scan
 
+        # A fast scan's result says what a slow one with its jab and sweep would take.
+        pockets = self.pockets or slow_scan.nominal_probes(
+            self.layout.scan, self.plan, [s.slot for s in self.slot_map.slots
+                                          if s.state != UNSCANNED])
         return {"fast": slow_scan.fast_duration(self.layout.scan),
-                "slow": slow_scan.slow_duration(self.layout.scan, self.plan, self.pockets)}
+                "slow": slow_scan.slow_duration(self.layout.scan, self.plan, pockets)}
 
     @property
     def code(self):

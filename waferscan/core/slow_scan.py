@@ -471,6 +471,27 @@ def fast_duration(scan):
     return 2.0 * stroke if scan.direction == "updown" else stroke
 
 
+def nominal_probes(scan, plan, slots):
+    """The pockets a slow scan with these settings would probe (the listed slots), for its
+    duration only: the height and depth of each jab and sweep, nothing found. Empty without a
+    jab or a sweep. Lets a fast scan's result say what the slow one would take (SPEC §13)."""
+    if not (scan.jab > 0.0 or scan.sweep > 0.0):
+        return ()
+    return tuple(PocketProbe(slot, pocket_height(plan, slot), None, scan.jab, None)
+                 for slot in slots)
+
+
+def slow_fast_notice(scan):
+    """A warning when the scan is fast but asks for a jab or a sweep (only a slow scan makes
+    them), else None."""
+    if scan.mode == "slow" or not (scan.jab > 0.0 or scan.sweep > 0.0):
+        return None
+    asked = " and ".join(w for w, v in (("a jab", scan.jab), ("a sweep", scan.sweep)) if v > 0)
+    return (f"{asked} {'are' if ' and ' in asked else 'is'} set but only a slow scan "
+            f"(mode = slow) makes them: this fast scan's beam stayed at the start pose, and the "
+            f"slow duration is what a slow scan with them would take")
+
+
 def slow_duration(scan, plan, probes=()):
     """Seconds of a slow scan: pocket by pocket (bottom up), the lift to the pocket's window,
     each step of it a move from rest to rest and a read at rest (sensor_response), then at
