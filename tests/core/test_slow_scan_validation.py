@@ -132,6 +132,14 @@ def test_a_lift_so_slow_that_the_durations_overflow():
     refused(text, "scan_speed", "overflow")
 
 
+def test_a_read_at_rest_so_long_that_the_durations_overflow():
+    # scan_speed × sensor_response (50 km) is within the latch's limit, but 10^8 reads of 5e299 s
+    # are not a finite time.
+    text = scenario(jab="0.0", sweep="0.0").replace(
+        'mode = "slow"', 'mode = "slow"\nscan_speed = 1e-295\nsensor_response = 5e299')
+    refused(text, "sensor_response", "must be smaller", "overflow")
+
+
 def test_parameters_txt_is_checked_the_same_way():
     layout = parse_scenario(scenario(jab="0.0", sweep="0.0"), "s.toml")
     with pytest.raises(InputError, match=r"^parameters.txt:2: jab: 40 mm would drive the fork's "

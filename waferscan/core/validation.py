@@ -316,7 +316,8 @@ def duration_problems(scan):
         key = "scan_speed"
     else:
         key = "acceleration"
-    return [Problem(key, f"must be larger: {getattr(scan, key):g} makes the scan's simulated "
+    way = "smaller" if key == "sensor_response" else "larger"
+    return [Problem(key, f"must be {way}: {getattr(scan, key):g} makes the scan's simulated "
                          f"duration overflow", group="scan")]
 
 
