@@ -77,7 +77,9 @@ def test_every_key_is_read_with_bom_crlf_comments_and_blank_lines():
     # keys in tests/core/test_slow_scan.py.
     from waferscan.core.sensor_settings import SETTING_KEYS
     from waferscan.core.slow_scan import SETTING_KEYS as SLOW_KEYS
-    assert set(ALL_KEYS_VALUES) | set(SETTING_KEYS) | set(SLOW_KEYS) == set(mcs.PARAMETER_KEYS)
+    from waferscan.core.recipe import RECIPE_KEYS  # SPEC §11: tests/core/test_recipe_keys.py
+    assert set(ALL_KEYS_VALUES) | set(SETTING_KEYS) | set(SLOW_KEYS) | set(RECIPE_KEYS) == \
+        set(mcs.PARAMETER_KEYS)
     p = parse_parameters(ALL_KEYS_TEXT, "parameters.txt")
     assert p.values == ALL_KEYS_VALUES
     assert type(p.values["slot_count"]) is int

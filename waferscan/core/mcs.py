@@ -16,7 +16,7 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import schema, sensor_settings, slow_scan, validation
+from . import recipe, schema, sensor_settings, slow_scan, validation
 from .errors import InputError
 from .text_files import read_text
 from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
@@ -178,6 +178,8 @@ def used_parameters(layout):
     values["thickness_tolerance"] = mapping.thickness_tolerance_for(carrier.wafer_thickness)
     values["position_tolerance"] = mapping.position_tolerance
     values["protrusion_limit"] = mapping.protrusion_limit
+    # SPEC §11's recipe keys only where they differ from their defaults, as the settings below.
+    values.update(recipe.given_values(mapping))
     # SPEC §10's settings only where they differ from the ideal sensor: a scan without them
     # lists what it always did.
     values.update(sensor_settings.given_values(layout))
