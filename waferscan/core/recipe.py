@@ -52,3 +52,14 @@ def resolved_values(plan):
     return {"thickness_min": low, "thickness_max": high, "double_threshold": plan.double_limit(),
             "position_below": below, "position_above": above, "rules": plan.rules,
             "thickness_correction": plan.thickness_correction}
+
+
+def describe(plan):
+    """One line of the recipe a ``SlotPlan`` judges by, for people (the GUI's scan panel)."""
+    low, high = plan.thickness_window()
+    below, above = plan.position_window()
+    text = (f"{plan.rules} rules: present {low:g} to {high:g} mm, seat −{below:g}/+{above:g} mm, "
+            f"cross-slotted beyond {plan.double_limit():g} mm")
+    if plan.thickness_correction != 1.0:
+        text += f", diffs divided by {plan.thickness_correction:g}"
+    return text
