@@ -23,7 +23,8 @@ from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, th
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
 
-COMMAND_NAMES = {"SCF": "fast scan", "SCS": "slow scan", "STOP": "stop the running scan"}
+COMMAND_NAMES = {"SCF": "fast scan", "SCS": "slow scan", "STOP": "stop the running scan",
+                 "CAL": "calibrate from reference wafers (SPEC §11)"}
 
 # Keys of parameters.txt besides the scan and mapping keys: the scanned carrier and its nominal
 # slots as the MCS knows them (they change what the mapping judges against, not the geometry).
@@ -264,10 +265,13 @@ def _mm(x):
     return "" if x is None else f"{x:.3f}"
 
 
-def format_results(seq, command, result=None, error=None, timestamp=None, message=""):
+def format_results(seq, command, result=None, error=None, timestamp=None, message="",
+                   recipe=None):
     """results.txt text: ``key = value`` header lines, a blank line, then the tab-separated table
     (slot, slot_z, wafer, in, out, diff, state) in millimetres to the micrometre. With ``error``
-    the status is ``error``, the message is the error, and there is no table."""
+    the status is ``error``, the message is the error, and there is no table. ``recipe``: a
+    calibration's keys and values (SPEC §11, CAL), listed after the parameters used where
+    these do not list them already."""
     if timestamp is None:
         timestamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     header = [("seq", "" if seq is None else str(seq)), ("command", command),
@@ -286,7 +290,9 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
                    ("duration_slow", f"{durations['slow']:.3f}")]
     if result is not None and not error:
         header.append(("engine", result.engine))
-        header += [(k, _text(v)) for k, v in used_parameters(result.layout).items()]
+        used = used_parameters(result.layout)
+        header += [(k, _text(v)) for k, v in used.items()]
+        header += [(k, _text(v)) for k, v in (recipe or {}).items() if k not in used]
     lines = [f"{k} = {v}".rstrip() for k, v in header]
     if result is not None and not error:
         from .sensing import slot_readings
