@@ -141,3 +141,15 @@ def test_a_check_scan_that_misreads_a_reference_fails_naming_the_slots():
 def test_the_failures_have_distinct_exit_codes_other_than_bad_input():
     assert sorted(EXIT_CODES.values()) == [3, 4, 5]
     assert set(EXIT_CODES) == {NO_BOTTOM_WAFER, NO_TOP_WAFER, CHECK_FAILED}
+
+
+def test_the_readme_example_misreads_taught_and_maps_calibrated():
+    from waferscan.core.scenario import read_scenario
+
+    layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
+    assert scan_layout(layout).code == "1100100005000050000500055"
+    calibration = calibrate(layout, scan_layout)
+    assert calibration.check.code == LOAD
+    assert (calibration.first_slot_z, round(calibration.pitch, 4)) == \
+        (pytest.approx(294.24), 10.0208)
+    assert calibration.thickness_correction == pytest.approx(0.675 / 0.7)
