@@ -1,5 +1,6 @@
 """The headless MCS link on a FreeCAD document: each SCF/SCS reads parameters.txt afresh and
-scans the document, checking for STOP while it runs.
+scans the document, checking for STOP while it runs; a CAL calibrates the document's recipe
+from its reference wafers (SPEC §11) under parameters.txt and answers with the check scan.
 
 The document's layout is read once and again only after the document changed (a FreeCAD
 document observer says so): reading it asks every wafer's solid for its surfaces, and FreeCAD
