@@ -48,7 +48,14 @@ BOUNDARY_CROSS_FACTOR = 2.5
 
 @dataclass(frozen=True)
 class SlotPlan:
-    """The nominal slots and wafer the controller judges against (the MCS's taught values)."""
+    """The nominal slots and wafer the controller judges against (the MCS's taught values),
+    and the recipe it judges by (SPEC §11).
+
+    A judge of its own (a vectorised one over many layouts) takes the limits resolved from
+    ``thickness_window()``, ``position_window()`` and ``double_limit()`` (not the fields, whose
+    None stands for a rule), divides diffs by ``thickness_correction`` (``corrected``), compares
+    with LIMIT_SLACK's inclusiveness, and follows ``judge_run``'s order for ``rules``:
+    "waferscan" judges position before thickness, "boundary" thickness before position."""
 
     slot_count: int
     pitch: float
