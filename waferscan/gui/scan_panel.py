@@ -91,6 +91,13 @@ class ScanTaskPanel(ClosableTaskPanel):
                                     lambda doc: read_layout(doc, DocumentScene.of(doc)),
                                     transaction, self._settings_applied)
         layout_box.addWidget(self.sensor.box)
+        from .recipe_section import RecipeSection  # SPEC §11: the recipe, edited here too
+
+        self.recipe_section = RecipeSection(animation.doc,
+                                            lambda doc: read_layout(doc, DocumentScene.of(doc)),
+                                            transaction, self._settings_applied,
+                                            animation.result.plan)
+        layout_box.addWidget(self.recipe_section.box)
         layout_box.addWidget(self.progress)
         from .signal_view import live_trace  # SPEC §10: b(z) beside the animation
 
