@@ -210,10 +210,16 @@ def cmd_calibrate(args):
     try:
         calibration = calibrate_input(args.input, parameters, args.engine)
     except CalibrationError as exc:
+        if args.json:
+            print(json.dumps(report.calibration_failure_dict(exc), indent=2))
         sys.stderr.write(f"{PROG}: calibration failed: {exc}\n")
         return EXIT_CODES[exc.kind]
     if args.out:
         _write(args.out, format_parameters(calibration.after))
+    if args.json:
+        print(json.dumps(report.calibration_dict(calibration), indent=2))
+        _warn(calibration.check)
+        return 0
     print(format_calibration(calibration))
     if args.out:
         print(f"\nrecipe written to {args.out}")
@@ -332,6 +338,7 @@ def build_parser():
     calibrate.add_argument("--out", metavar="RECIPE", help="write the new recipe as a "
                            "parameters.txt")
     calibrate.add_argument("--engine", choices=sorted(ENGINES), default="analytic")
+    calibrate.add_argument("--json", action="store_true", help="print one JSON object")
     calibrate.set_defaults(run=cmd_calibrate)
 
     layout = sub.add_parser("layout", help="build a FreeCAD layout from a scenario")

@@ -130,3 +130,26 @@ def test_a_failed_cal_is_an_error_answer_in_the_failures_words(tmp_path):
     assert answer["message"] == ("no-bottom-wafer: no wafer in the bottom slot (slot 1): the "
                                  "lowest run, 0.650 mm at z = 304.290, is nearest slot 2's seat")
     assert "\n\n" not in text  # no table
+
+
+def test_json_gives_both_recipes_and_the_check_scan_or_the_failure(tmp_path):
+    import json
+
+    drifted = scenario(tmp_path)
+    taught = tmp_path / "taught.txt"
+    taught.write_text(TAUGHT)
+    done = run("calibrate", drifted, "--params", taught, "--json")
+    assert done.returncode == 0, done.stderr
+    data = json.loads(done.stdout)
+    assert data["status"] == "ok" and data["check"]["code"] == LOAD
+    assert data["recipe"]["first_slot_z"]["current"] == 293.94
+    assert data["recipe"]["first_slot_z"]["calibrated"] == pytest.approx(294.24, abs=0.05)
+    assert data["recipe"]["rules"] == {"current": "waferscan", "calibrated": "waferscan"}
+    assert data["check"]["params"]["slot_pitch"] == data["recipe"]["slot_pitch"]["calibrated"]
+    taught.write_text(TAUGHT + "thickness_min = 0.69\nthickness_max = 0.71\n")
+    done = run("calibrate", drifted, "--params", taught, "--json")
+    assert done.returncode == 5
+    failure = json.loads(done.stdout)
+    assert (failure["status"], failure["failure"]) == ("error", "check-failed")
+    assert failure["message"].startswith("check scan failed: slot 1 read 3 (double)")
+    assert failure["code"][0] == "3" and failure["code"][-1] == "4"
