@@ -1,7 +1,8 @@
 """The ``waferscan`` command: argument parsing and output, nothing else.
 
 Exit status 0 on success, 2 on bad input (one line ``waferscan: error: FILE:LINE: message`` on
-stderr), 1 on an internal fault.
+stderr), 1 on an internal fault; ``waferscan calibrate`` exits 3, 4 or 5 for its own failures
+(core/calibration.py EXIT_CODES).
 """
 
 from __future__ import annotations
@@ -200,6 +201,32 @@ def cmd_scan(args):
     return 0
 
 
+def cmd_calibrate(args):
+    """SPEC §11: calibrate from reference wafers; exit 3, 4, 5 for the failures (README)."""
+    from .cad.document_calibration import calibrate_input
+    from .core.calibration import EXIT_CODES, CalibrationError, format_calibration
+
+    parameters = read_parameters(args.params) if args.params else None
+    try:
+        calibration = calibrate_input(args.input, parameters, args.engine)
+    except CalibrationError as exc:
+        if args.json:
+            print(json.dumps(report.calibration_failure_dict(exc), indent=2))
+        sys.stderr.write(f"{PROG}: calibration failed: {exc}\n")
+        return EXIT_CODES[exc.kind]
+    if args.out:
+        _write(args.out, format_parameters(calibration.after))
+    if args.json:
+        print(json.dumps(report.calibration_dict(calibration), indent=2))
+        _warn(calibration.check)
+        return 0
+    print(format_calibration(calibration))
+    if args.out:
+        print(f"\nrecipe written to {args.out}")
+    _warn(calibration.check)
+    return 0
+
+
 def cmd_layout(args):
     from .cad.layout_files import open_layout, save_document
     import FreeCAD as App
@@ -302,6 +329,17 @@ def build_parser():
     scan.add_argument("--store", action="store_true", help="keep the results in the layout "
                                                            ".FCStd (its ScanResults spreadsheet)")
     scan.set_defaults(run=cmd_scan)
+
+    calibrate = sub.add_parser("calibrate", help="recipe from reference wafers in the bottom "
+                               "and top slots, then a check scan (exit 3, 4, 5: failures)")
+    calibrate.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
+    calibrate.add_argument("--params", metavar="FILE", help="a parameters.txt: the recipe to "
+                           "start from (default: the layout's own)")
+    calibrate.add_argument("--out", metavar="RECIPE", help="write the new recipe as a "
+                           "parameters.txt")
+    calibrate.add_argument("--engine", choices=sorted(ENGINES), default="analytic")
+    calibrate.add_argument("--json", action="store_true", help="print one JSON object")
+    calibrate.set_defaults(run=cmd_calibrate)
 
     layout = sub.add_parser("layout", help="build a FreeCAD layout from a scenario")
     layout.add_argument("scenario", metavar="SCENARIO.toml")

@@ -77,7 +77,9 @@ def test_every_key_is_read_with_bom_crlf_comments_and_blank_lines():
     # keys in tests/core/test_slow_scan.py.
     from waferscan.core.sensor_settings import SETTING_KEYS
     from waferscan.core.slow_scan import SETTING_KEYS as SLOW_KEYS
-    assert set(ALL_KEYS_VALUES) | set(SETTING_KEYS) | set(SLOW_KEYS) == set(mcs.PARAMETER_KEYS)
+    from waferscan.core.recipe import RECIPE_KEYS  # SPEC §11: tests/core/test_recipe_keys.py
+    assert set(ALL_KEYS_VALUES) | set(SETTING_KEYS) | set(SLOW_KEYS) | set(RECIPE_KEYS) == \
+        set(mcs.PARAMETER_KEYS)
     p = parse_parameters(ALL_KEYS_TEXT, "parameters.txt")
     assert p.values == ALL_KEYS_VALUES
     assert type(p.values["slot_count"]) is int
@@ -380,7 +382,7 @@ def test_command_problems():
         (5, "SCF", (), 1, None),
         (4, "SCF", (), 2, "seq 4 is not above the one before (5)"),
         (None, "SCF", (), 3, "seq must be a whole number, got 'x'"),
-        (6, "JUMP", (), 4, "unknown command 'JUMP' (known: SCF, SCS, STOP)"),
+        (6, "JUMP", (), 4, "unknown command 'JUMP' (known: SCF, SCS, STOP, CAL)"),
         (7, "", (), 5, "no command after the seq"),
         (8, "SCF", (), 6, None),
         (8, "SCF", (), 7, "seq 8 is not above the one before (8)"),

@@ -26,6 +26,7 @@ def begin():
     panel = commands.session.task_panel
     state["panel"], state["animation"] = panel, panel.animation
     result["task_panel_shown"] = Gui.Control.activeDialog()
+    result["recipe_label"] = panel.recipe.text()  # SPEC §11
     panel.speed.setValue(120.0)  # slow for now (seconds for the whole scan): a pause lands mid-scan
     frames = state["frames"] = []
     panel.animation.moved.connect(lambda k, z: frames.append(k))

@@ -131,3 +131,9 @@ def test_a_link_deleted_mid_animation_ends_it_cleanly(gui):
 def test_screenshots_were_saved():
     for name in SHOTS:
         assert (ARTIFACTS / name).stat().st_size > 1000, name
+
+
+def test_the_panel_shows_the_recipe_it_judges_by(gui):
+    # The paper's layout has no recipe: SPEC §4's limits from t = 0.7, Δt = 0.35, Δp = 0.5.
+    assert gui["recipe_label"] == ("Recipe: waferscan rules: present 0.35 to 1.05 mm, seat "
+                                   "−0.5/+0.5 mm, cross-slotted beyond 1.75 mm")

@@ -33,7 +33,8 @@ def test_screenshot_saved(gui_result):
     assert SCREENSHOT.stat().st_size > 0
 
 
-COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Run scan", "MCS link…",
+COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Run scan", "Calibrate",
+            "MCS link…",
             "Results table", "Slot code", "Cross-check with CAD", "Preferences…"]
 
 

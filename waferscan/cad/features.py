@@ -244,4 +244,7 @@ def make_settings(doc, scan, mapping, carrier):
     from . import slow_scan_properties  # SPEC §13: Jab, Sweep and the arm's motion
 
     slow_scan_properties.add_to(obj, scan)
+    from . import recipe_properties  # SPEC §11: the mapping recipe
+
+    recipe_properties.add_to(obj, mapping)
     return obj

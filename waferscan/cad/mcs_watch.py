@@ -1,5 +1,6 @@
 """The headless MCS link on a FreeCAD document: each SCF/SCS reads parameters.txt afresh and
-scans the document, checking for STOP while it runs.
+scans the document, checking for STOP while it runs; a CAL calibrates the document's recipe
+from its reference wafers (SPEC §11) under parameters.txt and answers with the check scan.
 
 The document's layout is read once and again only after the document changed (a FreeCAD
 document observer says so): reading it asks every wafer's solid for its surfaces, and FreeCAD
@@ -104,6 +105,8 @@ def document_scanner(doc, folder, engine="analytic"):
         should_stop()
         path = folder / PARAMETERS
         read = read_link_parameters(path)
+        if command.name == "CAL":  # SPEC §11: the recipe from the reference wafers
+            return _calibrated(doc, cache, read, engine, should_stop)
         note = mode_note(read, command.name)
         parameters = read or Parameters({}, {}, str(path))
         parameters = Parameters({**parameters.values, "mode": COMMAND_MODES[command.name]},
@@ -119,6 +122,26 @@ def document_scanner(doc, folder, engine="analytic"):
 
     scan.close = cache.close
     return scan
+
+
+def _calibrated(doc, cache, parameters, engine, should_stop):
+    """A CAL: calibrate the document's layout under parameters.txt's recipe; the answer is the
+    check scan with the calibrated recipe's keys in its header (a failure raises
+    CalibrationError, answered with its words)."""
+    from ..core.calibration import REPORTED_KEYS
+    from .document_calibration import calibrate_document
+
+    scene, layout = cache.get()
+    cache.scanning = True
+    try:
+        calibration = calibrate_document(doc, parameters, engine, read=(scene, layout),
+                                         progress=lambda done, total: should_stop())
+    finally:
+        cache.scanning = False
+    values = calibration.values(calibration.after)
+    return Scanned(calibration.check, "calibrated from the reference wafers in slots 1 and "
+                   f"{calibration.after.scanned_carrier.slot_count}",
+                   {key: values[key] for key in REPORTED_KEYS})
 
 
 LAYOUT_CHECK_SECONDS = 1.0  # how often the layout file is checked for a change

@@ -169,6 +169,9 @@ def _settings(scene, beam, carriers):
     mapping = MappingTolerances(thickness_tolerance=thickness_tolerance_from_stored(tolerance),
                                 **{k: v for k, v in values.items()
                                    if k in MappingTolerances.__dataclass_fields__})
+    from . import recipe_properties  # SPEC §11: the mapping recipe
+
+    mapping = recipe_properties.read(obj, mapping, scene.error)
     return scan, mapping, obj.Carrier or None
 
 
@@ -234,6 +237,13 @@ def _check_values(scene, scanner, carriers, beam, lift_axis, layout=None):
         holder = roles.role_holder(scene.settings[0].obj)
         prop = next((p for p, _, field, _ in SETTINGS_PROPERTIES + SENSOR_PROPERTIES
                      + SLOW_SCAN_PROPERTIES if field == key), key)
+        raise scene.error(f"{holder.Label}.{prop}: {message}")
+    if group == "mapping" and scene.settings:  # SPEC §11's recipe, or SPEC §4's tolerances
+        from .recipe_properties import property_of
+
+        holder = roles.role_holder(scene.settings[0].obj)
+        prop = property_of(key) or next((p for p, _, field, _ in SETTINGS_PROPERTIES
+                                         if field == key), "ThicknessTolerance")
         raise scene.error(f"{holder.Label}.{prop}: {message}")
     if group == "wafer" and index is not None and index < len(scene.wafers):
         raise scene.error(f"{scene.wafers[index].path}: {message}")

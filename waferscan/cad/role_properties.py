@@ -10,7 +10,8 @@ Wafer              none: the disc (centre, normal, diameter, thickness) is read 
 Carrier            CARRIER
 Scanner            SCANNER
 Robot              ROBOT (and RobotLink on each link's shape)
-ScanSettings       SETTINGS (its scan and mapping fields: features.SETTINGS_PROPERTIES)
+ScanSettings       SETTINGS (its scan and mapping fields: features.SETTINGS_PROPERTIES; the
+                   recipe: RECIPE_PROPERTIES)
 =================  ====================================================================
 """
 
@@ -116,9 +117,32 @@ SLOW_SCAN_PROPERTIES = (
      "Acceleration of the sweep in degrees/s²"),
 )
 
+# SPEC §11's recipe (core/recipe.py), as (property, kind, key, tooltip): cad/recipe_properties.py
+# adds and reads them. A negative limit means "not set": the SPEC §4 rule from t, Δt and Δp.
+RECIPE_PROPERTIES = (
+    ("ThicknessMin", "App::PropertyFloat", "thickness_min",
+     "Recipe: shortest run in mm of a present wafer; negative: t - thickness tolerance"),
+    ("ThicknessMax", "App::PropertyFloat", "thickness_max",
+     "Recipe: longest run in mm of a present wafer; negative: t + thickness tolerance"),
+    ("DoubleThreshold", "App::PropertyFloat", "double_threshold",
+     "Recipe: a run longer than this in mm is cross-slotted; negative: 2t + thickness tolerance "
+     "(2.5 t under the boundary rules)"),
+    ("PositionBelow", "App::PropertyFloat", "position_below",
+     "Recipe: how far in mm a run's bottom may lie below its seat; negative: PositionTolerance"),
+    ("PositionAbove", "App::PropertyFloat", "position_above",
+     "Recipe: how far in mm a run's bottom may lie above its seat; negative: PositionTolerance"),
+    ("Rules", "App::PropertyEnumeration", "rules",
+     "Recipe: waferscan (a run by its bottom edge, SPEC §4) or boundary (by its centre and the "
+     "slot boundaries, SPEC §11)"),
+    ("ThicknessCorrection", "App::PropertyFloat", "thickness_correction",
+     "Recipe: measured diffs are divided by this before they are judged (calibration)"),
+)
+
 SETTINGS += tuple(RoleProperty(name, kind, _UNITS[name], tip)
                   for name, kind, _, tip in SENSOR_PROPERTIES + SLOW_SCAN_PROPERTIES)
 SETTINGS += (RoleProperty("Latch", "App::PropertyEnumeration", "", LATCH_TIP),)
+SETTINGS += tuple(RoleProperty(name, kind, "" if key in ("rules", "thickness_correction")
+                               else "mm", tip) for name, kind, key, tip in RECIPE_PROPERTIES)
 
 BY_ROLE = {"Wafer": (), "Carrier": CARRIER, "Scanner": SCANNER, "Robot": ROBOT,
            "ScanSettings": SETTINGS}

@@ -38,10 +38,24 @@ _SEVERITY = (EMPTY, PRESENT, THIN, POSITION_ERROR, DOUBLE, CROSS, PROTRUDING)
 # not pushed across it by rounding (113.85 - 113.5 != 0.35 in binary floating point).
 LIMIT_SLACK = 1e-9
 
+# The rule sets a plan may judge by (SPEC §11, ``SlotPlan.rules``).
+WAFERSCAN, BOUNDARY = "waferscan", "boundary"
+RULE_SETS = (WAFERSCAN, BOUNDARY)
+# Under "boundary" rules a run thicker than this many nominal thicknesses near a boundary is
+# cross-slotted (DOMAIN-NOTES: the open load-port controller's 2.5 t).
+BOUNDARY_CROSS_FACTOR = 2.5
+
 
 @dataclass(frozen=True)
 class SlotPlan:
-    """The nominal slots and wafer the controller judges against (the MCS's taught values)."""
+    """The nominal slots and wafer the controller judges against (the MCS's taught values),
+    and the recipe it judges by (SPEC §11).
+
+    A judge of its own (a vectorised one over many layouts) takes the limits resolved from
+    ``thickness_window()``, ``position_window()`` and ``double_limit()`` (not the fields, whose
+    None stands for a rule), divides diffs by ``thickness_correction`` (``corrected``), compares
+    with LIMIT_SLACK's inclusiveness, and follows ``judge_run``'s order for ``rules``:
+    "waferscan" judges position before thickness, "boundary" thickness before position."""
 
     slot_count: int
     pitch: float
@@ -50,6 +64,60 @@ class SlotPlan:
     thickness_tolerance: float
     position_tolerance: float
     protrusion_limit: float = 1.0
+    # The recipe (SPEC §11). None keeps the SPEC §4 rule built from t, Δt and Δp, so a plan
+    # without a recipe judges exactly as before.
+    thickness_min: float | None = None      # mm; None: t − Δt
+    thickness_max: float | None = None      # mm; None: t + Δt
+    double_threshold: float | None = None   # mm; None: 2t + Δt ("waferscan"), 2.5 t ("boundary")
+    position_below: float | None = None     # mm below the seat; None: Δp
+    position_above: float | None = None     # mm above the seat; None: Δp
+    rules: str = "waferscan"                # "waferscan" (SPEC §4) or "boundary" (SPEC §11)
+    # Measured diffs are divided by this before they are judged: a calibration's measured mean
+    # thickness over the nominal one (a sensor that reads every wafer 2 % thick gives 1.02).
+    thickness_correction: float = 1.0
+
+    def __post_init__(self):
+        if self.rules not in RULE_SETS:
+            raise ValueError(f"rules must be one of {', '.join(RULE_SETS)}, not {self.rules!r}")
+
+    def thickness_window(self):
+        """(min, max) diff (mm, after the thickness correction) of a present wafer; both limits
+        are inclusive up to LIMIT_SLACK. A shorter run is thin; a longer one double (or
+        cross-slotted beyond ``double_limit()``)."""
+        t, dt = self.wafer_thickness, self.thickness_tolerance
+        low = t - dt if self.thickness_min is None else self.thickness_min
+        high = t + dt if self.thickness_max is None else self.thickness_max
+        return (low, high)
+
+    def position_window(self):
+        """(below, above): how far (mm, both >= 0) a run's bottom edge may lie below and above
+        its slot's seat and still be seated; inclusive up to LIMIT_SLACK."""
+        below = self.position_tolerance if self.position_below is None else self.position_below
+        above = self.position_tolerance if self.position_above is None else self.position_above
+        return (below, above)
+
+    def double_limit(self):
+        """The diff (mm, after the thickness correction) beyond which a run is cross-slotted.
+        Under ``"waferscan"`` rules any run longer than this is cross-slotted; under
+        ``"boundary"`` rules only one whose centre lies within a third of a pitch of a slot
+        boundary (a run that crosses a boundary is cross-slotted at any length). The default
+        depends on the rule set: 2t + Δt (SPEC §4) or 2.5 t (the open controller's rule)."""
+        if self.double_threshold is not None:
+            return self.double_threshold
+        if self.rules == BOUNDARY:
+            return BOUNDARY_CROSS_FACTOR * self.wafer_thickness
+        return 2.0 * self.wafer_thickness + self.thickness_tolerance
+
+    def corrected(self, diff):
+        """A measured diff (mm) as the rules judge it: divided by the thickness correction."""
+        if self.thickness_correction == 1.0:
+            return diff
+        return diff / self.thickness_correction
+
+    def boundary_z(self, slot):
+        """The Z (mm) of the boundary between ``slot`` and ``slot + 1`` under ``"boundary"``
+        rules: halfway between their seats (the slot references)."""
+        return self.seat_z(slot) + 0.5 * self.pitch
 
     def seat_z(self, slot):
         return self.first_slot_z + (slot - 1) * self.pitch
@@ -93,27 +161,77 @@ def _nearest_slot(plan, z):
 
 def judge_run(plan, bottom, top):
     """Which slots a run (bottom, top in scan Z, bottom <= top) speaks for and what it says:
-    a list of (slot, state). Slots outside 1..slot_count are left out."""
-    t = plan.wafer_thickness
-    dt = plan.thickness_tolerance
-    length = top - bottom
+    a list of (slot, state), by the plan's rule set. Slots outside 1..slot_count are left out."""
+    if plan.rules == BOUNDARY:
+        found = _judge_by_boundaries(plan, bottom, top)
+    else:
+        found = _judge_by_bottom_edge(plan, bottom, top)
+    return [(slot, state) for slot, state in found if 1 <= slot <= plan.slot_count]
+
+
+def _judge_by_bottom_edge(plan, bottom, top):
+    """SPEC §4: a run longer than the double limit is cross-slotted (both slots around its
+    midpoint); any other run belongs to the seat nearest its bottom edge and is judged first by
+    position, then by thickness."""
+    length = plan.corrected(top - bottom)
     eps = LIMIT_SLACK
-    if length > 2.0 * t + dt + eps:
+    if length > plan.double_limit() + eps:
         middle = 0.5 * (bottom + top)
         lower = int(math.floor((middle - plan.first_slot_z) / plan.pitch)) + 1
-        found = [(lower, CROSS), (lower + 1, CROSS)]
+        return [(lower, CROSS), (lower + 1, CROSS)]
+    slot = _nearest_slot(plan, bottom)
+    offset = bottom - plan.seat_z(slot)
+    below, above = plan.position_window()
+    low, high = plan.thickness_window()
+    if offset > above + eps or -offset > below + eps:
+        state = POSITION_ERROR
+    elif length < low - eps:
+        state = THIN
+    elif length <= high + eps:
+        state = PRESENT
     else:
-        slot = _nearest_slot(plan, bottom)
-        if abs(bottom - plan.seat_z(slot)) > plan.position_tolerance + eps:
-            state = POSITION_ERROR
-        elif length < t - dt - eps:
-            state = THIN
-        elif length <= t + dt + eps:
-            state = PRESENT
-        else:
-            state = DOUBLE
-        found = [(slot, state)]
-    return [(slot, state) for slot, state in found if 1 <= slot <= plan.slot_count]
+        state = DOUBLE
+    return [(slot, state)]
+
+
+def _judge_by_boundaries(plan, bottom, top):
+    """SPEC §11 "boundary" rules: a run belongs to the seat nearest its centre; it is
+    cross-slotted when it crosses a boundary (halfway between seats: every slot it spans gets 2)
+    or when it is longer than the double limit with its centre within a third of a pitch of a
+    boundary (both slots around that boundary get 2); otherwise it is judged first by thickness
+    (thick, thin) and only then by the position of its bottom edge against the seat."""
+    length = plan.corrected(top - bottom)
+    eps = LIMIT_SLACK
+    centre = 0.5 * (bottom + top)
+    slot = _nearest_slot(plan, centre)
+    # The boundaries either side of the run's own slot: slot-1 | slot and slot | slot+1. A run
+    # that reaches past one crosses it; a run may span several slots.
+    lowest = _nearest_slot(plan, bottom)
+    highest = _nearest_slot(plan, top)
+    crossed = [s for s in range(lowest, highest) if bottom < plan.boundary_z(s) - eps
+               and top > plan.boundary_z(s) + eps]
+    if crossed:
+        spanned = sorted({s for b in crossed for s in (b, b + 1)})
+        return [(s, CROSS) for s in spanned]
+    if length > plan.double_limit() + eps:
+        below_boundary = plan.boundary_z(slot - 1)
+        above_boundary = plan.boundary_z(slot)
+        if above_boundary - centre <= plan.pitch / 3.0 + eps:
+            return [(slot, CROSS), (slot + 1, CROSS)]
+        if centre - below_boundary <= plan.pitch / 3.0 + eps:
+            return [(slot - 1, CROSS), (slot, CROSS)]
+    low, high = plan.thickness_window()
+    offset = bottom - plan.seat_z(slot)
+    below, above = plan.position_window()
+    if length > high + eps:
+        state = DOUBLE
+    elif length < low - eps:
+        state = THIN
+    elif offset > above + eps or -offset > below + eps:
+        state = POSITION_ERROR
+    else:
+        state = PRESENT
+    return [(slot, state)]
 
 
 def unscanned_slots(plan, scanned):

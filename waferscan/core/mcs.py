@@ -16,14 +16,15 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import schema, sensor_settings, slow_scan, validation
+from . import recipe, schema, sensor_settings, slow_scan, validation
 from .errors import InputError
 from .text_files import read_text
 from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
 
-COMMAND_NAMES = {"SCF": "fast scan", "SCS": "slow scan", "STOP": "stop the running scan"}
+COMMAND_NAMES = {"SCF": "fast scan", "SCS": "slow scan", "STOP": "stop the running scan",
+                 "CAL": "calibrate from reference wafers (SPEC §11)"}
 
 # Keys of parameters.txt besides the scan and mapping keys: the scanned carrier and its nominal
 # slots as the MCS knows them (they change what the mapping judges against, not the geometry).
@@ -178,6 +179,8 @@ def used_parameters(layout):
     values["thickness_tolerance"] = mapping.thickness_tolerance_for(carrier.wafer_thickness)
     values["position_tolerance"] = mapping.position_tolerance
     values["protrusion_limit"] = mapping.protrusion_limit
+    # SPEC §11's recipe keys only where they differ from their defaults, as the settings below.
+    values.update(recipe.given_values(mapping))
     # SPEC §10's settings only where they differ from the ideal sensor: a scan without them
     # lists what it always did.
     values.update(sensor_settings.given_values(layout))
@@ -262,10 +265,13 @@ def _mm(x):
     return "" if x is None else f"{x:.3f}"
 
 
-def format_results(seq, command, result=None, error=None, timestamp=None, message=""):
+def format_results(seq, command, result=None, error=None, timestamp=None, message="",
+                   recipe=None):
     """results.txt text: ``key = value`` header lines, a blank line, then the tab-separated table
     (slot, slot_z, wafer, in, out, diff, state) in millimetres to the micrometre. With ``error``
-    the status is ``error``, the message is the error, and there is no table."""
+    the status is ``error``, the message is the error, and there is no table. ``recipe``: a
+    calibration's keys and values (SPEC §11, CAL), listed after the parameters used where
+    these do not list them already."""
     if timestamp is None:
         timestamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     header = [("seq", "" if seq is None else str(seq)), ("command", command),
@@ -284,7 +290,9 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
                    ("duration_slow", f"{durations['slow']:.3f}")]
     if result is not None and not error:
         header.append(("engine", result.engine))
-        header += [(k, _text(v)) for k, v in used_parameters(result.layout).items()]
+        used = used_parameters(result.layout)
+        header += [(k, _text(v)) for k, v in used.items()]
+        header += [(k, _text(v)) for k, v in (recipe or {}).items() if k not in used]
     lines = [f"{k} = {v}".rstrip() for k, v in header]
     if result is not None and not error:
         from .sensing import slot_readings

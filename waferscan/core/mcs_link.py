@@ -47,6 +47,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import InputError
+from .calibration import CalibrationError
 from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, atomic_write_text, format_results
 
 HISTORY = "history"
@@ -85,6 +86,7 @@ class Scanned:
 
     result: object
     message: str = ""
+    recipe: dict | None = None  # a CAL's calibrated recipe, for results.txt's header
 
 
 @dataclass(frozen=True)
@@ -510,6 +512,8 @@ class McsLink:
                     self._answer(stop.seq, "STOP", message=f"stopped the scan of seq {command.seq}")]
         except InputError as exc:
             return [self._answer(command.seq, command.name, error=str(exc))]
+        except CalibrationError as exc:  # SPEC §11: CAL's failures, in their own words
+            return [self._answer(command.seq, command.name, error=str(exc))]
         except Exception as exc:  # a fault of ours must not stop the link: answered, reported
             self.report(f"seq {command.seq}: internal error\n{traceback.format_exc().rstrip()}")
             return [self._answer(command.seq, command.name, error=f"internal error: "
@@ -518,11 +522,12 @@ class McsLink:
             self._running = False
         if isinstance(result, Scanned):
             return [self._answer(command.seq, command.name, result=result.result,
-                                 message=result.message)]
+                                 message=result.message, recipe=result.recipe)]
         return [self._answer(command.seq, command.name, result=result)]
 
-    def _answer(self, seq, name, result=None, error=None, message=""):
-        text = format_results(seq, name, result=result, error=error, message=message)
+    def _answer(self, seq, name, result=None, error=None, message="", recipe=None):
+        text = format_results(seq, name, result=result, error=error, message=message,
+                              recipe=recipe)
         answer = Answer(seq, name, "error" if error else "ok", error or message,
                         result.code if result is not None and not error else "")
         return seq, name, text, answer

@@ -159,6 +159,15 @@ class MappingTolerances:
     thickness_tolerance: float | None = None
     position_tolerance: float = 0.5
     protrusion_limit: float = 1.0
+    # SPEC §11's recipe, as core.mapping.SlotPlan takes it (None: the SPEC §4 rule from t, Δt
+    # and Δp); core/recipe.py lists the keys.
+    thickness_min: float | None = None
+    thickness_max: float | None = None
+    double_threshold: float | None = None
+    position_below: float | None = None
+    position_above: float | None = None
+    rules: str = "waferscan"
+    thickness_correction: float = 1.0
 
     def thickness_tolerance_for(self, thickness):
         if self.thickness_tolerance is None:

@@ -172,3 +172,19 @@ def format_crosscheck(check):
                   f"magnified where the beam grazes a rim); "
                   f"{'confirmed' if check.ok else 'NOT confirmed'} by FreeCAD's B-rep geometry"]
     return "\n".join(lines)
+
+
+def calibration_dict(calibration):
+    """``waferscan calibrate --json`` (SPEC §11): the recipe keys, each with its current and its
+    calibrated value, and the check scan as ``scan --json`` gives a scan."""
+    return {"status": "ok",
+            "recipe": {key: {"current": old, "calibrated": new}
+                       for key, old, new in calibration.rows()},
+            "check": result_dict(calibration.check)}
+
+
+def calibration_failure_dict(error):
+    """``waferscan calibrate --json`` when the calibration fails: its kind, its words and the
+    check scan's code when there was one."""
+    return {"status": "error", "failure": error.kind, "message": error.words,
+            "code": error.check.code if error.check is not None else None}

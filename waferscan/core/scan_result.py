@@ -13,6 +13,7 @@ from .engines import reachable_wafers
 from .geometry import wafer_bounds
 from .mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
 from .model import DOWN, SLOW, UP, UPDOWN
+from .recipe import recipe_fields
 
 
 @dataclass(frozen=True)
@@ -120,6 +121,7 @@ def slot_plan(carrier, mapping):
         thickness_tolerance=mapping.thickness_tolerance_for(carrier.wafer_thickness),
         position_tolerance=mapping.position_tolerance,
         protrusion_limit=mapping.protrusion_limit,
+        **recipe_fields(mapping),  # SPEC §11
     )
 
 

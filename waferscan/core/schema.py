@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 from .errors import WaferScanError
+from .mapping import RULE_SETS
 from .model import DIRECTIONS, MODES
 
 # A scan is at most this many stepped positions (0.001 mm over 100 m); more is a typo.
@@ -113,6 +114,14 @@ MAPPING_KEYS = {
     "thickness_tolerance": non_negative,
     "position_tolerance": non_negative,
     "protrusion_limit": non_negative,
+    # SPEC §11's recipe (core/recipe.py); how they fit together: validation.mapping_problems
+    "thickness_min": non_negative,
+    "thickness_max": positive,
+    "double_threshold": positive,
+    "position_below": non_negative,
+    "position_above": non_negative,
+    "rules": choice(RULE_SETS),
+    "thickness_correction": positive,
 }
 
 

@@ -321,6 +321,65 @@ def duration_problems(scan):
                          f"duration overflow", group="scan")]
 
 
+def mapping_problems(mapping, thickness):
+    """The problems of a mapping recipe (SPEC §11) against the scanned carrier's nominal wafer
+    ``thickness`` (mm): its limits resolved as ``mapping.SlotPlan`` resolves them must make a
+    thin < present < double < cross-slotted order. The key blamed is the one that was given."""
+    from .mapping import RULE_SETS, SlotPlan
+
+    found = []
+
+    def add(key, message):
+        found.append(Problem(key, message, group="mapping"))
+
+    values = {key: getattr(mapping, key) for key in
+              ("thickness_tolerance", "position_tolerance", "protrusion_limit", "thickness_min",
+               "thickness_max", "double_threshold", "position_below", "position_above",
+               "thickness_correction")}
+    for key, value in values.items():
+        if value is None:
+            continue
+        if not _finite((value,)) or abs(value) > MAX_COORDINATE:
+            add(key, f"must be finite and within ±{MAX_COORDINATE:,.0f}, got {value!r}")
+        elif value < 0.0:
+            add(key, f"must not be negative, got {value:g}")
+    if mapping.thickness_correction is not None and _finite((mapping.thickness_correction,)) \
+            and mapping.thickness_correction <= 0.0:
+        add("thickness_correction", f"must be greater than 0, got {mapping.thickness_correction:g}")
+    if mapping.rules not in RULE_SETS:
+        add("rules", f"expected one of {', '.join(RULE_SETS)}, got {mapping.rules!r}")
+    if found or not _finite((thickness,)):
+        return found
+    plan = SlotPlan(1, 1.0, 0.0, thickness, mapping.thickness_tolerance_for(thickness),
+                    mapping.position_tolerance, rules=mapping.rules,
+                    thickness_min=mapping.thickness_min, thickness_max=mapping.thickness_max,
+                    double_threshold=mapping.double_threshold)
+    low, high = plan.thickness_window()
+    double = plan.double_limit()
+    window_given = mapping.thickness_min is not None or mapping.thickness_max is not None
+    # A window of t ± 0 (thickness_tolerance 0) is SPEC §4's and stays allowed; a window given
+    # as limits must be a window.
+    if not (low < high if window_given else low <= high):
+        key = "thickness_min" if mapping.thickness_min is not None else (
+            "thickness_max" if mapping.thickness_max is not None else "thickness_tolerance")
+        add(key, f"thickness_min {low:g} must be less than thickness_max {high:g}")
+    elif not (double > high if mapping.double_threshold is not None or window_given
+              else double >= high):  # SPEC §4's own limits meet only when t is lost to rounding
+        key = "double_threshold" if mapping.double_threshold is not None else (
+            "thickness_max" if mapping.thickness_max is not None else "thickness_tolerance")
+        add(key, f"double_threshold {double:g} must be greater than thickness_max {high:g}")
+    return found
+
+
+def _scanned_thickness(layout):
+    """The nominal thickness of the scanned carrier's wafers, or None when the layout does not
+    say which carrier it scans (its reader reports that)."""
+    try:
+        return layout.scanned_carrier.wafer_thickness
+    except (ValueError, StopIteration):
+        return None
+
+
 def layout_problems(layout):
     """Every problem of a layout, in the order a reader would meet the values: carriers, beam,
     scan, robot, wafers. An empty list means the layout makes a scan of bounded cost."""
@@ -336,6 +395,9 @@ def layout_problems(layout):
         found += duration_problems(layout.scan)  # SPEC §13: every scan reports its durations
         found += slow_scan_problems(layout)  # SPEC §13: the jab and sweep with beam and carrier
     found += robot_problems(layout.robot)
+    thickness = _scanned_thickness(layout)
+    if thickness is not None:
+        found += mapping_problems(layout.mapping, thickness)
     if len(layout.wafers) > MAX_WAFERS:
         found.append(Problem("wafer", f"{len(layout.wafers):,} wafers; at most {MAX_WAFERS:,}"))
     else:

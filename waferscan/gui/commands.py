@@ -507,6 +507,31 @@ def cross_check(doc):
     return check
 
 
+def calibrate_layout(doc):
+    """SPEC §11: calibrate the document's recipe from its reference wafers (slots 1 and n) and
+    show the calibrated recipe beside the current one with the check scan's code. A failure is
+    reported in its own words. Returns the core Calibration, or None."""
+    from ..cad.document_calibration import calibrate_document
+    from ..core.calibration import CalibrationError, format_calibration
+    from .calibration_view import calibration_dialog
+
+    QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+    try:
+        calibration = calibrate_document(doc)
+    except CalibrationError as exc:
+        report_error(f"Calibration of {doc.Label} failed: {exc}")
+        return None
+    finally:
+        QtGui.QApplication.restoreOverrideCursor()
+    App.Console.PrintMessage(f"WaferScan calibration of {doc.Label}:\n"
+                             f"{format_calibration(calibration)}\n")
+    dialog = calibration_dialog(calibration, f"WaferScan calibration: {doc.Label}",
+                                Gui.getMainWindow())
+    dialog.show()
+    session.dialogs = [dialog]
+    return calibration
+
+
 # --- the commands ------------------------------------------------------------------------
 
 def record(call):
@@ -611,6 +636,15 @@ class RunScan(_Command):
         record(f"run_scan({_doc_ref(App.ActiveDocument)})")
 
 
+class CalibrateCommand(_Command):
+    menu, icon = "Calibrate", "WaferScan_Calibrate.svg"
+    tip = ("Calibrate the recipe from reference wafers in the bottom and top slots: slot-1 seat, "
+           "pitch, scan range, thickness correction, then a check scan (SPEC §11)")
+
+    def run(self):
+        record(f"calibrate_layout({_doc_ref(App.ActiveDocument)})")
+
+
 class McsLinkCommand(_Command):
     menu, icon = "MCS link…", "WaferScan_McsLink.svg"
     tip = ("Talk to the robot's motion control software through parameters.txt, commands.txt "
@@ -670,6 +704,7 @@ COMMANDS = {
     "WaferScan_OpenScenario": OpenScenario(),
     "WaferScan_Tag": TagGroup(),
     "WaferScan_RunScan": RunScan(),
+    "WaferScan_Calibrate": CalibrateCommand(),
     "WaferScan_McsLink": McsLinkCommand(),
     "WaferScan_Results": ResultsTableCommand(),
     "WaferScan_SlotCode": SlotCodeCommand(),

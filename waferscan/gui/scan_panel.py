@@ -33,6 +33,11 @@ class ScanTaskPanel(ClosableTaskPanel):
             f"{format_length(scan.start_z)} to {format_length(scan.final_z)}, {steps}, "
             f"{scan.mode} mode, direction {scan.direction}")
         about.setWordWrap(True)
+        from ..core.recipe import describe  # SPEC §11: the recipe the slots are judged by
+
+        self.recipe = QtGui.QLabel(f"Recipe: {describe(animation.result.plan)}")
+        self.recipe.setWordWrap(True)
+        self.recipe.setToolTip("The mapping recipe (ScanSettings' Recipe properties)")
         self.z = length_input(scan.start_z, "Scan position: the emitter's Z", -1e6, 1e6)
         self.z.setReadOnly(True)
         self.beam = QtGui.QLabel("beam clear")
@@ -75,6 +80,7 @@ class ScanTaskPanel(ClosableTaskPanel):
         form.addRow("Playback", self.speed)
         layout_box = QtGui.QVBoxLayout(self.form)
         layout_box.addWidget(about)
+        layout_box.addWidget(self.recipe)
         layout_box.addLayout(form)
         # Issues 14 and 17: the sensor's and the slow scan's settings, edited where scans run.
         from ..cad.reader import DocumentScene, read_layout
@@ -85,6 +91,13 @@ class ScanTaskPanel(ClosableTaskPanel):
                                     lambda doc: read_layout(doc, DocumentScene.of(doc)),
                                     transaction, self._settings_applied)
         layout_box.addWidget(self.sensor.box)
+        from .recipe_section import RecipeSection  # SPEC §11: the recipe, edited here too
+
+        self.recipe_section = RecipeSection(animation.doc,
+                                            lambda doc: read_layout(doc, DocumentScene.of(doc)),
+                                            transaction, self._settings_applied,
+                                            animation.result.plan)
+        layout_box.addWidget(self.recipe_section.box)
         layout_box.addWidget(self.progress)
         from .signal_view import live_trace  # SPEC §10: b(z) beside the animation
 

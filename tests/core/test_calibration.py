@@ -1,0 +1,155 @@
+"""Auto-calibration (SPEC §11): a carrier whose real slot-1 seat and pitch differ from the
+taught recipe's is calibrated from reference wafers in its bottom and top slots; the seat and
+pitch come back within the latch resolution and the check scan maps every wafer present. Each
+failure has its own kind and words."""
+
+from pathlib import Path
+
+import pytest
+
+from waferscan.core.calibration import (CHECK_FAILED, EXIT_CODES, NO_BOTTOM_WAFER, NO_TOP_WAFER,
+                                        REPORTED_KEYS, CalibrationError, calibrate,
+                                        format_calibration)
+from waferscan.core.mcs import apply_parameters, parse_parameters
+from waferscan.core.scan import scan_layout
+from waferscan.core.scenario import parse_scenario
+
+ROOT = Path(__file__).resolve().parents[2]
+PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"
+PAPER_TEXT = PAPER_PATH.read_text()
+TAUGHT_SEAT, TAUGHT_PITCH = 293.94, 10.0
+TAUGHT = f"first_slot_z = {TAUGHT_SEAT}\nslot_pitch = {TAUGHT_PITCH}\n"
+LOAD = "1100100001000010000100011"  # references in slots 1 and 25, others between
+
+
+def drifted(offset=0.3, pitch=10.02, load=LOAD, z_step=0.05, recipe=TAUGHT):
+    """The paper's carrier built with its real slot 1 ``offset`` above the taught seat and the
+    real ``pitch``, loaded with ``load``; the controller's recipe is the taught one."""
+    text = (PAPER_TEXT.replace(f"first_slot_z = {TAUGHT_SEAT}",
+                               f"first_slot_z = {TAUGHT_SEAT + offset!r}")
+            .replace("pitch = 10.0\n", f"pitch = {pitch!r}\n")
+            .replace('load = "1101221001220001010000010"', f'load = "{load}"')
+            .replace("z_step = 0.05", f"z_step = {z_step!r}"))
+    real = parse_scenario(text, "drifted.toml", folder=PAPER_PATH.parent)
+    return apply_parameters(real, parse_parameters(recipe, "taught.txt"))
+
+
+@pytest.mark.parametrize("offset, pitch", [(0.3, 10.02), (-0.27, 9.98), (0.412, 10.013)])
+@pytest.mark.parametrize("z_step", [0.05, 0.01])
+def test_calibration_recovers_seat_and_pitch_within_the_latch_resolution(offset, pitch, z_step):
+    layout = drifted(offset, pitch, z_step=z_step)
+    # the truth, from the wafers as built: bottom faces of the references in slots 1 and 25
+    seats = sorted(w.center[2] for w in layout.wafers)
+    true_seat, true_pitch = seats[0], (seats[-1] - seats[0]) / 24
+    assert true_seat == pytest.approx(TAUGHT_SEAT + offset) and true_pitch == pytest.approx(pitch)
+    # the taught recipe misreads the drifted carrier: that is why one calibrates
+    assert scan_layout(layout).code != LOAD
+    calibration = calibrate(layout, scan_layout)
+    # a stepped latch reads a bottom edge at the first step at or above it
+    assert 0.0 <= calibration.first_slot_z - true_seat < z_step + 1e-9
+    assert abs(calibration.pitch - true_pitch) < z_step / 24 + 1e-9
+    carrier = calibration.after.scanned_carrier
+    assert (carrier.first_slot_z, carrier.pitch) == (calibration.first_slot_z, calibration.pitch)
+    # the check scan maps every wafer present, with no slot unscanned
+    assert calibration.check.code == LOAD
+    # the scan range: one pitch below slot 1 to one pitch above slot 25, on the step grid
+    scan = calibration.after.scan
+    assert calibration.first_slot_z - calibration.pitch - z_step < scan.start_z \
+        <= calibration.first_slot_z - calibration.pitch + 1e-9
+    top = calibration.first_slot_z + 25 * calibration.pitch
+    assert top - 1e-9 <= scan.final_z < top + z_step
+    # thickness correction: the references' mean measured diff over the nominal 0.7 mm
+    low, high = calibration.references
+    assert calibration.thickness_correction == pytest.approx((low.diff + high.diff) / 2 / 0.7)
+    assert abs(low.diff - 0.7) < z_step + 1e-9 and abs(high.diff - 0.7) < z_step + 1e-9
+
+
+def test_exact_edges_recover_seat_pitch_and_thickness_exactly():
+    layout = drifted(0.3, 10.02, z_step=0.0)
+    calibration = calibrate(layout, scan_layout)
+    assert calibration.first_slot_z == pytest.approx(TAUGHT_SEAT + 0.3, abs=1e-9)
+    assert calibration.pitch == pytest.approx(10.02, abs=1e-9)
+    assert calibration.thickness_correction == pytest.approx(1.0, abs=1e-9)
+    assert calibration.check.code == LOAD
+
+
+def test_a_latch_lag_is_taken_into_the_seat_and_the_check_still_maps():
+    # 200 mm/s × 1 ms: every edge latched 0.2 mm late upwards; the recipe learns it.
+    layout = drifted(recipe=TAUGHT + "scan_speed = 200\nsensor_response = 0.001\n"
+                            "latch = encoder\n")
+    calibration = calibrate(layout, scan_layout)
+    assert calibration.first_slot_z - (TAUGHT_SEAT + 0.3) == pytest.approx(0.2, abs=0.05 + 1e-9)
+    assert calibration.check.code == LOAD
+
+
+def test_the_rows_set_current_beside_calibrated():
+    calibration = calibrate(drifted(), scan_layout)
+    rows = {key: (old, new) for key, old, new in calibration.rows()}
+    assert list(rows) == list(REPORTED_KEYS)
+    assert rows["first_slot_z"] == (TAUGHT_SEAT, calibration.first_slot_z)
+    assert rows["slot_pitch"] == (TAUGHT_PITCH, calibration.pitch)
+    assert rows["thickness_correction"] == (1.0, calibration.thickness_correction)
+    assert rows["thickness_min"] == (0.35, 0.35) and rows["rules"] == ("waferscan", "waferscan")
+    text = format_calibration(calibration)
+    assert f"check scan code {LOAD}" in text
+    assert "first_slot_z                293.9400        294.2400" in text
+
+
+@pytest.mark.parametrize("load, kind, words", [
+    ("0100100001000010000100011", NO_BOTTOM_WAFER,
+     "no wafer in the bottom slot (slot 1): the lowest run, 0.650 mm at z = 304.290, is nearest "
+     "slot 2's seat"),
+    ("0" * 25, NO_BOTTOM_WAFER,
+     "no wafer in the bottom slot (slot 1): the calibration scan saw no wafer at all"),
+    ("2200000000000000000000001", NO_BOTTOM_WAFER, None),
+    ("1100100001000010000100010", NO_TOP_WAFER,
+     "no wafer in the top slot (slot 25): the highest run, 0.650 mm at z = 524.740, is nearest "
+     "slot 24's seat"),
+    ("1" + "0" * 24, NO_TOP_WAFER,
+     "no wafer in the top slot (slot 25): the highest run, 0.700 mm at z = 294.240, is nearest "
+     "slot 1's seat"),
+])
+def test_missing_references_fail_with_their_own_kind_and_words(load, kind, words):
+    with pytest.raises(CalibrationError) as caught:
+        calibrate(drifted(load=load), scan_layout)
+    assert caught.value.kind == kind and caught.value.check is None
+    if words is not None:
+        assert caught.value.words == words
+    else:  # a cross-slotted wafer in slot 1: its run is no single wafer
+        assert caught.value.words.startswith("no single wafer in the bottom slot (slot 1): its "
+                                             "run, ")
+        assert caught.value.words.endswith("is longer than the double limit 1.75 mm")
+    assert str(caught.value) == f"{kind}: {caught.value.words}"
+
+
+def test_a_check_scan_that_misreads_a_reference_fails_naming_the_slots():
+    # On the 0.05 mm grid the bottom reference (294.24 to 294.94, both on the grid) reads 0.70
+    # mm and the top one (534.72 to 535.42, latched at 534.74 and 535.39) 0.65: corrected by
+    # their mean 0.675 / 0.7, 0.726 and 0.674; a window of 0.69 to 0.71 calls the first double
+    # and the second thin.
+    layout = drifted(recipe=TAUGHT + "thickness_min = 0.69\nthickness_max = 0.71\n")
+    with pytest.raises(CalibrationError) as caught:
+        calibrate(layout, scan_layout)
+    error = caught.value
+    assert error.kind == CHECK_FAILED
+    code = error.check.code
+    assert (code[0], code[-1]) == ("3", "4")
+    assert error.words == ("check scan failed: slot 1 read 3 (double); slot 25 read 4 (thin) "
+                           f"(code {code})")
+
+
+def test_the_failures_have_distinct_exit_codes_other_than_bad_input():
+    assert sorted(EXIT_CODES.values()) == [3, 4, 5]
+    assert set(EXIT_CODES) == {NO_BOTTOM_WAFER, NO_TOP_WAFER, CHECK_FAILED}
+
+
+def test_the_readme_example_misreads_taught_and_maps_calibrated():
+    from waferscan.core.scenario import read_scenario
+
+    layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
+    assert scan_layout(layout).code == "1100100005000050000500055"
+    calibration = calibrate(layout, scan_layout)
+    assert calibration.check.code == LOAD
+    assert (calibration.first_slot_z, round(calibration.pitch, 4)) == \
+        (pytest.approx(294.24), 10.0208)
+    assert calibration.thickness_correction == pytest.approx(0.675 / 0.7)

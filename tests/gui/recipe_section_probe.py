@@ -1,0 +1,79 @@
+# Run by FreeCAD's GUI (tests/gui/test_gui_recipe_section.py): the scan panel's "Recipe" section
+# as a user uses it. Scan the paper's layout; open the section; type a window whose min is above
+# its max (refused: nothing written), then a thickness min of 0.66 mm with the boundary rules
+# and apply; Replay judges by them.
+import os
+import sys
+
+sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
+from probe_steps import finish, result, start, wait_for, window_shot  # noqa: E402
+
+import FreeCAD as App  # noqa: E402
+import FreeCADGui as Gui  # noqa: E402
+
+state = {}
+
+
+def panel():
+    from waferscan.gui import commands
+    return commands.session.task_panel
+
+
+def settings():
+    return next(o for o in App.ActiveDocument.Objects if "ThicknessMin" in o.PropertiesList)
+
+
+def begin():
+    Gui.activateWorkbench("WaferScanWorkbench")
+    Gui.runCommand("WaferScan_NewPaperLayout")
+    Gui.updateGui()
+    Gui.runCommand("WaferScan_RunScan")
+    first = panel()
+    first.speed.setValue(1.0)
+    section = first.recipe_section
+    result["first_code"] = first.animation.result.code
+    result["collapsed_visible"] = section.body.isVisible()
+    result["shown"] = {p: [f.text(), f.placeholderText()] for p, f in section.fields.items()}
+    result["shown_rules"] = section.rules.currentText()
+    result["shown_correction"] = section.correction.text()
+    wait_for("the first scan's end", lambda: first.animation.ended, edit_recipe)
+
+
+def edit_recipe():
+    section = panel().recipe_section
+    section.toggle.click()
+    Gui.updateGui()
+    result["expanded_visible"] = section.body.isVisible()
+    undo_before = App.ActiveDocument.UndoCount
+    section.fields["ThicknessMin"].setText("0.9")
+    section.fields["ThicknessMax"].setText("0.8")
+    result["bad_applied"] = section.apply()
+    result["bad_message"] = section.message.text()
+    result["after_bad"] = [settings().ThicknessMin, settings().ThicknessMax,
+                           App.ActiveDocument.UndoCount - undo_before]
+    section.fields["ThicknessMin"].setText("0.66")
+    section.fields["ThicknessMax"].setText("")
+    section.rules.setCurrentIndex(section.rules.findText("boundary"))
+    result["good_applied"] = section.apply()
+    result["good_message"] = section.message.text()
+    result["after_good"] = [settings().ThicknessMin, settings().ThicknessMax, settings().Rules,
+                            App.ActiveDocument.UndoCount - undo_before,
+                            App.ActiveDocument.UndoNames[0]]
+    window_shot("gui-scan-panel-recipe.png")
+    state["old"] = panel()
+    panel().replay_button.click()
+    wait_for("the replay with the recipe", lambda: panel() is not state["old"]
+             and panel().animation.ended, after_replay)
+
+
+def after_replay():
+    replayed = panel().animation.result
+    result["replay_code"] = replayed.code
+    result["replay_plan"] = [replayed.plan.rules, list(replayed.plan.thickness_window())]
+    result["replay_label"] = panel().recipe.text()
+    panel().animation.stop()
+    Gui.Control.closeDialog()
+    finish()
+
+
+start(begin)

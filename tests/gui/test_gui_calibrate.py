@@ -1,0 +1,61 @@
+"""The Calibrate command (SPEC §11) in a real FreeCAD GUI: on a carrier built 0.3 mm above the
+taught seat at a 10.02 mm pitch, the dialog shows the current recipe beside the calibrated one,
+as the core calibration gives them, and the check scan's code; a layout without a top reference
+gets the failure's words."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+from waferscan.core.calibration import calibrate
+from waferscan.core.scan import scan_layout
+from waferscan.core.scenario import read_scenario
+
+REPO = Path(__file__).resolve().parents[2]
+PROBE = Path(__file__).resolve().with_name("calibrate_probe.py")
+PAPER_TEXT = (REPO / "resources" / "examples" / "paper.toml").read_text()
+LOAD = "1100100001000010000100011"
+
+
+@pytest.fixture(scope="module")
+def scenario(tmp_path_factory):
+    """The paper's carrier as taught (slot 1 at 293.94, pitch 10), its wafers where a carrier
+    0.3 mm higher at a 10.02 mm pitch holds them: references in slots 1 and 25, others between.
+    The document's carrier is the taught recipe; the wafers are what the sensor finds."""
+    path = tmp_path_factory.mktemp("gui-calibrate") / "drifted.toml"
+    wafers = "".join(f"\n[[wafer]]\ncenter = [0.0, 400.0, {294.24 + (slot - 1) * 10.02!r}]\n"
+                     f"normal = [0.0, 0.0, 1.0]\ndiameter = 300.0\nthickness = 0.7\n"
+                     for slot, state in enumerate(LOAD, 1) if state == "1")
+    path.write_text(PAPER_TEXT.replace('load = "1101221001220001010000010"', f'load = "{"0" * 25}"')
+                    + wafers)
+    return path
+
+
+@pytest.fixture(scope="module")
+def gui(run_gui_probe, scenario):
+    return run_gui_probe(PROBE, WAFERSCAN_GUI_SCENARIO=str(scenario),
+                         WAFERSCAN_GUI_ARTIFACTS=str(REPO / "test-artifacts"))
+
+
+def test_the_dialog_shows_the_current_recipe_beside_the_calibrated_one(gui, scenario):
+    expected = calibrate(read_scenario(scenario), scan_layout)
+    assert gui["visible"] and gui["title"] == "WaferScan calibration: drifted"
+    table = gui["table"]
+    assert [row[0] for row in table] == [key for key, _, _ in expected.rows()]
+    shown = {key: (old, new) for key, old, new in table}
+    for key, old, new in expected.rows():
+        assert shown[key] == (f"{old:.4f}" if isinstance(old, float) else str(old),
+                              f"{new:.4f}" if isinstance(new, float) else str(new)), key
+    # taught 293.94 and 10; the wafers' seats come back to within a step
+    assert shown["first_slot_z"][0] == "293.9400" and shown["slot_pitch"][0] == "10.0000"
+    assert abs(float(shown["first_slot_z"][1]) - 294.24) < 0.05
+    assert abs(float(shown["slot_pitch"][1]) - 10.02) < 0.05 / 24
+    assert f"slot code <b>{LOAD}</b>" in gui["check"]
+
+
+def test_a_layout_without_a_top_reference_reports_the_failure(gui):
+    (text,) = gui["error_boxes"]
+    assert re.match(r"Calibration of paper\d* failed: no-top-wafer: no wafer in the top slot "
+                    r"\(slot 25\): the highest run, ", text)
+    assert text.endswith("is nearest slot 24's seat")

@@ -1,0 +1,33 @@
+"""Auto-calibration (SPEC §11, core/calibration.py) of a FreeCAD document's layout: the command
+line's ``waferscan calibrate``, the MCS link's ``CAL`` and the GUI's Calibrate command all read
+the document's layout, put a parameters.txt's values over it, and calibrate with the core scan
+of the layout read."""
+
+from __future__ import annotations
+
+from ..core.calibration import calibrate
+from ..core.mcs import apply_parameters
+from ..core.scan import scan_layout
+from .reader import DocumentScene, read_layout
+
+
+def calibrate_document(doc, parameters=None, engine="analytic", progress=None, read=None):
+    """Calibrate the document's layout (with ``parameters``, a core ``mcs.Parameters``, over
+    it). ``read``: (scene, layout) already read from this document (the MCS link's cache);
+    ``progress(done, total)`` is called during both scans. Returns a core Calibration or raises
+    CalibrationError (InputError for bad input)."""
+    if read is not None:
+        layout = read[1]
+    else:
+        layout = read_layout(doc, DocumentScene.of(doc))
+    if parameters is not None:
+        layout = apply_parameters(layout, parameters)
+    return calibrate(layout, lambda scanned: scan_layout(scanned, engine, progress=progress))
+
+
+def calibrate_input(path, parameters=None, engine="analytic"):
+    """Calibrate a scenario .toml or a layout .FCStd, as ``waferscan scan`` scans one."""
+    from .layout_files import opened_layout
+
+    with opened_layout(path) as doc:
+        return calibrate_document(doc, parameters, engine)
