@@ -168,3 +168,14 @@ def test_flat_layouts_are_built_as_before():
         assert math.isclose(made.getObject(PAPER.wafers[0].name).Height.Value, 0.7)
     finally:
         App.closeDocument(made.Name)
+
+
+def test_a_bowed_wafer_can_be_tagged_again(doc):
+    from waferscan.cad.disc import NotADisc
+    from waferscan.cad.roles import tag_wafer
+
+    obj = doc.getObject(PAPER.wafers[0].name)
+    tag_wafer(obj)  # a bowed wafer is a wafer
+    obj.Bow = 1.0  # its shape not recomputed: not the wafer its Bow says
+    with pytest.raises(NotADisc, match="recompute"):
+        tag_wafer(obj)

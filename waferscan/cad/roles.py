@@ -57,7 +57,14 @@ def tag_wafer(obj):
     if shape is None or shape.isNull():
         raise NotADisc(f"{obj.Label} has no shape")
     try:
-        disc_of(shape)
+        try:
+            disc_of(shape)
+        except NotADisc:
+            if not getattr(obj, "Bow", 0.0):
+                raise
+            from .bowed_solid import bowed_disc_of  # (it imports this module's users)
+
+            bowed_disc_of(shape, float(obj.Bow))  # a bowed wafer (SPEC §10) tagged again
     except NotADisc as exc:
         raise NotADisc(f"{obj.Label} is not a wafer: {exc}") from None
     set_role(obj, WAFER)
