@@ -71,7 +71,10 @@ def open_preferences(key, edit, then):
         result[key] = {"texts": {name: f.text() for name, f in fields.items()},
                        "shape": shape.currentText(), "latch": latch.currentText(),
                        "diameter_enabled": fields["SpotDiameter"].isEnabled()}
-        if edit:
+        if edit == "bad":  # OFF above ON: refused as a whole, the stored values kept
+            fields["ThresholdOff"].setText("0.9")
+            fields["SpotDiameter"].setText("3 mm")
+        elif edit:
             shape.setCurrentIndex(1)  # round spot
             latch.setCurrentIndex(latch.findText("encoder"))
             result[key]["diameter_enabled_after"] = fields["SpotDiameter"].isEnabled()
@@ -114,7 +117,11 @@ def new_layout():
     commands.ensure_settings(bare)
     result["added"] = settings_values(bare)
     result["added_read"] = read_back(bare)
-    open_preferences("untouched", edit=False, then=finish)
+    open_preferences("untouched", edit=False, then=refused)
+
+
+def refused():
+    open_preferences("refused", edit="bad", then=finish)
 
 
 start(begin)

@@ -76,5 +76,10 @@ def test_the_page_accepted_untouched_keeps_them_exactly(gui):
     assert gui["untouched"]["texts"]["SpotDiameter"] == "1 mm"
 
 
+def test_defaults_that_do_not_fit_together_are_not_stored(gui):
+    # OFF 0.9 above ON 0.6 (and a new diameter typed with it): nothing of the group stored.
+    assert gui["refused"]["stored"] == gui["first"]["stored"]
+
+
 def test_screenshot_saved():
     assert (ARTIFACTS / "gui-preferences-sensor.png").stat().st_size > 1000
