@@ -121,7 +121,16 @@ def new_layout():
 
 
 def refused():
-    open_preferences("refused", edit="bad", then=finish)
+    open_preferences("refused", edit="bad", then=by_hand)
+
+
+def by_hand():
+    """A value set by hand in the parameter editor that the page would refuse."""
+    from waferscan.gui import preferences
+    result["defaults_before"] = preferences.sensor_defaults()
+    App.ParamGet(PARAMETERS).SetFloat("ThresholdOn", 2.0)
+    result["defaults_by_hand"] = preferences.sensor_defaults()
+    finish()
 
 
 start(begin)

@@ -81,5 +81,12 @@ def test_defaults_that_do_not_fit_together_are_not_stored(gui):
     assert gui["refused"]["stored"] == gui["first"]["stored"]
 
 
+def test_a_bad_value_set_by_hand_gives_the_ideal_sensor(gui):
+    assert gui["defaults_before"] == {k: v for k, v in READ.items() if k not in (
+        "spot", "amplifier")} | {"spot_diameter": 1.0, "threshold_on": 0.6,
+                                 "threshold_off": 0.4}
+    assert gui["defaults_by_hand"] == {}
+
+
 def test_screenshot_saved():
     assert (ARTIFACTS / "gui-preferences-sensor.png").stat().st_size > 1000
