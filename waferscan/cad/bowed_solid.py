@@ -10,21 +10,16 @@ The document object (``BowedWafer``, a Part::FeaturePython) has a Part::Cylinder
 Height and Placement and the wafer's ``Bow``; its shape is this solid, so the 3D view shows the
 bow. The reader gets the same wafer from it as from a flat cylinder carrying ``Bow`` (documents
 made before this object): ``bowed_disc_of`` reads the centre, normal, diameter and thickness off
-the solid's cylindrical rim and checks the solid's bow against the property. Flat wafers stay
+the solid's cylindrical rim and checks the solid's bow against the property (disc.py). Flat wafers stay
 Part::Cylinders.
 """
 
 from __future__ import annotations
 
-import math
-
 import FreeCAD as App
 import Part
 
 from . import features
-from .disc import VOLUME_TOLERANCE, NotADisc
-
-BOW_TOLERANCE = 1e-6  # mm: a solid's bow (twice its centre of mass's lift) against the property
 
 
 def bowed_wafer_solid(wafer):
@@ -86,36 +81,3 @@ def make_bowed_wafer(doc, label, radius, thickness):
     BowedWafer(obj)
     return obj
 
-
-def bowed_disc_of(shape, bow):
-    """(center, normal, diameter, thickness) of a bowed wafer's solid whose bow is ``bow`` (mm),
-    as ``disc.disc_of`` gives them for a flat disc: ``center`` the centre of the rim's bottom
-    circle, ``normal`` the way the centre bows for a positive ``bow``. NotADisc when the shape is
-    not such a solid or its bow is not ``bow`` (the property changed, not recomputed)."""
-    solids = shape.Solids
-    if len(solids) != 1:
-        raise NotADisc(f"expected one solid, found {len(solids)}")
-    solid = solids[0]
-    rims = [f for f in solid.Faces if isinstance(f.Surface, Part.Cylinder)]
-    if not rims:
-        raise NotADisc("has no cylindrical rim")
-    surface = rims[0].Surface
-    axis, origin, radius = surface.Axis, surface.Center, surface.Radius
-    axis = axis * (1.0 / axis.Length)
-    heights = [(v.Point - origin).dot(axis) for face in rims for v in face.Vertexes]
-    low, high = min(heights), max(heights)
-    thickness = high - low
-    expected = math.pi * radius * radius * thickness  # the paraboloid shift keeps the volume
-    if thickness <= 0.0 or abs(solid.Volume - expected) > VOLUME_TOLERANCE * expected:
-        raise NotADisc(f"its volume {solid.Volume:.6g} mm^3 is not that of a bowed disc of "
-                       f"diameter {2 * radius:.6g} mm and thickness {thickness:.6g} mm")
-    # The centre of mass lies bow/2 (the mean of bow (1 - r²/R²) over the disc) above the rim's
-    # middle along the normal: its side gives the normal's sense, its size checks the bow.
-    lift = (solid.CenterOfMass - origin).dot(axis) - 0.5 * (low + high)
-    if lift * bow < 0.0:
-        axis, low = -axis, -high
-    if abs(2.0 * abs(lift) - abs(bow)) > BOW_TOLERANCE:
-        raise NotADisc(f"its shape is bowed by {2.0 * abs(lift):.6g} mm, not by its Bow "
-                       f"property's {bow:.6g} mm (recompute the document)")
-    center = origin + axis * low
-    return ((center.x, center.y, center.z), (axis.x, axis.y, axis.z), 2.0 * radius, thickness)

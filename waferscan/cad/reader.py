@@ -20,8 +20,7 @@ from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem,
 from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
                           unit)
 from . import roles
-from .bowed_solid import bowed_disc_of
-from .disc import NotADisc, disc_of
+from .disc import NotADisc, bowed_disc_of, disc_of
 from .features import SETTINGS_PROPERTIES
 from .scene import scene_instances
 from .sensor_properties import read_sensor_settings

@@ -10,7 +10,7 @@ import FreeCAD as App
 
 from ..core.scenario import SUPPORT_OVERLAP
 from . import role_properties
-from .disc import NotADisc, disc_of
+from .disc import NotADisc, bowed_disc_of, disc_of
 
 GROUP = "WaferScan"
 ROLE = "WaferScanRole"
@@ -62,8 +62,6 @@ def tag_wafer(obj):
         except NotADisc:
             if not getattr(obj, "Bow", 0.0):
                 raise
-            from .bowed_solid import bowed_disc_of  # (it imports this module's users)
-
             bowed_disc_of(shape, float(obj.Bow))  # a bowed wafer (SPEC §10) tagged again
     except NotADisc as exc:
         raise NotADisc(f"{obj.Label} is not a wafer: {exc}") from None
