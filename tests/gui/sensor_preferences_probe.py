@@ -68,9 +68,12 @@ def open_preferences(key, edit, then):
         shape = dialog.findChild(QtGui.QComboBox, "SpotShape")
         latch = dialog.findChild(QtGui.QComboBox, "Latch")
         fields = {name: dialog.findChild(QtGui.QLineEdit, name) for name in NAMES}
+        frame = dialog.frameGeometry()
+        screen = QtGui.QApplication.desktop().availableGeometry(dialog)
         result[key] = {"texts": {name: f.text() for name, f in fields.items()},
                        "shape": shape.currentText(), "latch": latch.currentText(),
-                       "diameter_enabled": fields["SpotDiameter"].isEnabled()}
+                       "diameter_enabled": fields["SpotDiameter"].isEnabled(),
+                       "fits": screen.contains(frame)}
         if edit == "bad":  # OFF above ON: refused as a whole, the stored values kept
             fields["ThresholdOff"].setText("0.9")
             fields["SpotDiameter"].setText("3 mm")

@@ -21,7 +21,9 @@ READ = {"spot": [1.0, 0.0, 0.0], "amplifier": [0.6, 0.4], "latch": "encoder",
 
 @pytest.fixture(scope="module")
 def gui(run_gui_probe):
-    return run_gui_probe(PROBE, WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS))
+    # A 1024x700 screen, the smallest the dialogs are made for: the page scrolls inside the
+    # preferences dialog, which stays on the screen.
+    return run_gui_probe(PROBE, screen="1024x700", WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS))
 
 
 def test_the_page_shows_the_ideal_sensor_with_units_when_nothing_is_set(gui):
@@ -32,6 +34,7 @@ def test_the_page_shows_the_ideal_sensor_with_units_when_nothing_is_set(gui):
                               "ThresholdOff": "0.5 of the spot", "Acceleration": "0 mm/s²",
                               "SamplePeriod": "0 ms", "SensorResponse": "0 ms"}
     assert first["diameter_enabled"] is False and first["diameter_enabled_after"] is True
+    assert first["fits"] is True
 
 
 def test_what_the_user_typed_is_stored_in_base_units(gui):
