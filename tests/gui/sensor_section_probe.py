@@ -86,6 +86,19 @@ def after_jab():
     result["pockets"] = [[p.slot, p.front] for p in jabbed.pockets]
     result["jab_code"] = jabbed.code
     panel().animation.stop()
+    # SPEC §10's other settings in the section: sampled latching without a read period is
+    # refused, with one (and a slit, an acceleration) written and read by the scan's reader.
+    from waferscan.cad.reader import read_layout
+    section = panel().sensor
+    section.latch.setCurrentIndex(section.latch.findText("sampled"))
+    result["sampled_bare"] = [section.apply(), section.message.text()]
+    for name, text in (("SamplePeriod", "0.002"), ("Acceleration", "1500"),
+                       ("SpotWidth", "2 mm"), ("SpotHeight", "0.5 mm")):
+        section.fields[name].setText(text)
+    result["sampled_applied"] = section.apply()
+    read = read_layout(App.ActiveDocument)
+    result["sampled_read"] = [read.scan.latch, read.scan.sample_period, read.scan.acceleration,
+                              read.spot.width, read.spot.height, read.spot.diameter]
     Gui.Control.closeDialog()
     finish()
 

@@ -28,7 +28,7 @@ def test_the_scan_panel_fits_the_default_combo_view(fit):
     assert gui["combo_width"] <= 270
     assert gui["scan_panel"]["clipped"] == []
     assert gui["scan_panel"]["sideways"] is False
-    assert gui["sensor_fields_shown"] == 5  # the Sensor and slow scan section, opened
+    assert gui["sensor_fields_shown"] == 9  # the Sensor and slow scan section, opened
     assert gui["scan_panel_sensor"]["clipped"] == []
     assert gui["scan_panel_sensor"]["sideways"] is False
 

@@ -69,3 +69,10 @@ def test_a_jab_in_slow_mode_gives_the_pockets_fronts(gui):
     occupied = {i + 1 for i, state in enumerate(gui["first_code"]) if state != "0"}
     assert fronts and set(fronts) <= occupied
     assert all(0.0 <= front <= 5.0 for front in fronts.values())
+
+
+def test_sampled_latching_a_slit_and_the_acceleration_are_set_in_the_panel(gui):
+    applied, message = gui["sampled_bare"]
+    assert applied is False and "sample_period" in message
+    assert gui["sampled_applied"] is True
+    assert gui["sampled_read"] == ["sampled", 0.002, 1500.0, 2.0, 0.5, 0.0]

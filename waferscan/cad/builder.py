@@ -59,16 +59,22 @@ def unchecked_labels():
 
 
 def add_wafer(doc, wafer, container=None, frame=None):
-    """A wafer as a Part::Cylinder with the wafer role; ``frame`` is the container's placement."""
-    obj = features.add_named(doc, "Part::Cylinder", wafer.name)
-    obj.Radius = wafer.radius
-    obj.Height = wafer.thickness
+    """A wafer as a Part::Cylinder with the wafer role (a bowed one as a BowedWafer, drawn
+    bowed); ``frame`` is the container's placement."""
+    if wafer.bow:
+        from .bowed_solid import make_bowed_wafer
+
+        obj = make_bowed_wafer(doc, wafer.name, wafer.radius, wafer.thickness)
+    else:
+        obj = features.add_named(doc, "Part::Cylinder", wafer.name)
+        obj.Radius = wafer.radius
+        obj.Height = wafer.thickness
     placement = wafer_placement(wafer)
     obj.Placement = placement if frame is None else frame.inverse().multiply(placement)
     roles.set_role(obj, roles.WAFER)
     if wafer.bow:
-        # SPEC §10: the disc carries the placement, diameter and thickness; the bow rides along
-        # as a property (cad/bowed_solid.py makes the solid of revolution for B-rep checks).
+        # SPEC §10: Radius, Height and Placement as a cylinder's, the bow a property of its
+        # own; the BowedWafer's shape is the solid of revolution they make (cad/bowed_solid.py).
         roles.add_property(obj, "App::PropertyDistance", "Bow", "Height of the wafer's centre "
                            "above its rim (paraboloid bow; negative: centre down)", wafer.bow)
     if container is not None:

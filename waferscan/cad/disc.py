@@ -1,5 +1,6 @@
 """A wafer's centre, normal, diameter and thickness read off its solid: a Part::Cylinder, a
-PartDesign body, an imported STEP solid. Anything that is not a solid disc is refused."""
+PartDesign body, an imported STEP solid. Anything that is not a solid disc is refused; a bowed
+wafer's solid of revolution (SPEC §10, cad/bowed_solid.py) is read with its bow given."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from ..core.errors import ShapeError
 
 ANGLE_TOLERANCE = 1e-9  # on unit vectors: sines and cosines
 VOLUME_TOLERANCE = 1e-6  # relative
+BOW_TOLERANCE = 1e-6  # mm: a solid's bow (twice its centre of mass's lift) against the property
 
 
 class NotADisc(ShapeError):
@@ -70,5 +72,39 @@ def disc_of(shape):
     if axis.z < 0.0 or (axis.z == 0.0 and (axis.y < 0.0 or (axis.y == 0.0 and axis.x < 0.0))):
         axis = -axis
         low, high = -high, -low
+    center = origin + axis * low
+    return ((center.x, center.y, center.z), (axis.x, axis.y, axis.z), 2.0 * radius, thickness)
+
+
+def bowed_disc_of(shape, bow):
+    """(center, normal, diameter, thickness) of a bowed wafer's solid whose bow is ``bow`` (mm),
+    as ``disc.disc_of`` gives them for a flat disc: ``center`` the centre of the rim's bottom
+    circle, ``normal`` the way the centre bows for a positive ``bow``. NotADisc when the shape is
+    not such a solid or its bow is not ``bow`` (the property changed, not recomputed)."""
+    solids = shape.Solids
+    if len(solids) != 1:
+        raise NotADisc(f"expected one solid, found {len(solids)}")
+    solid = solids[0]
+    rims = [f for f in solid.Faces if isinstance(f.Surface, Part.Cylinder)]
+    if not rims:
+        raise NotADisc("has no cylindrical rim")
+    surface = rims[0].Surface
+    axis, origin, radius = surface.Axis, surface.Center, surface.Radius
+    axis = axis * (1.0 / axis.Length)
+    heights = [(v.Point - origin).dot(axis) for face in rims for v in face.Vertexes]
+    low, high = min(heights), max(heights)
+    thickness = high - low
+    expected = math.pi * radius * radius * thickness  # the paraboloid shift keeps the volume
+    if thickness <= 0.0 or abs(solid.Volume - expected) > VOLUME_TOLERANCE * expected:
+        raise NotADisc(f"its volume {solid.Volume:.6g} mm^3 is not that of a bowed disc of "
+                       f"diameter {2 * radius:.6g} mm and thickness {thickness:.6g} mm")
+    # The centre of mass lies bow/2 (the mean of bow (1 - r²/R²) over the disc) above the rim's
+    # middle along the normal: its side gives the normal's sense, its size checks the bow.
+    lift = (solid.CenterOfMass - origin).dot(axis) - 0.5 * (low + high)
+    if lift * bow < 0.0:
+        axis, low = -axis, -high
+    if abs(2.0 * abs(lift) - abs(bow)) > BOW_TOLERANCE:
+        raise NotADisc(f"its shape is bowed by {2.0 * abs(lift):.6g} mm, not by its Bow "
+                       f"property's {bow:.6g} mm (recompute the document)")
     center = origin + axis * low
     return ((center.x, center.y, center.z), (axis.x, axis.y, axis.z), 2.0 * radius, thickness)

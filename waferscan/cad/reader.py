@@ -20,7 +20,7 @@ from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem,
 from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
                           unit)
 from . import roles
-from .disc import NotADisc, disc_of
+from .disc import NotADisc, bowed_disc_of, disc_of
 from .features import SETTINGS_PROPERTIES
 from .role_properties import SENSOR_PROPERTIES, SLOW_SCAN_PROPERTIES
 from .scene import scene_instances
@@ -73,14 +73,22 @@ class DocumentScene:
 
 
 def wafer_from(instance, name):
-    """The core Wafer of a wafer instance, from its global shape."""
+    """The core Wafer of a wafer instance, from its global shape: a flat disc, or the bowed
+    solid of its ``Bow`` (SPEC §10; a flat disc with a Bow property, as documents made before
+    bowed wafers were drawn bowed, reads the same)."""
+    holder = roles.role_holder(instance.obj)
+    bow = _value(holder.Bow) if "Bow" in holder.PropertiesList else 0.0  # SPEC §10
+    shape = instance.shape()
     try:
-        center, normal, diameter, thickness = disc_of(instance.shape())
+        try:
+            center, normal, diameter, thickness = disc_of(shape)
+        except NotADisc:
+            if not bow:
+                raise
+            center, normal, diameter, thickness = bowed_disc_of(shape, bow)
     except NotADisc as exc:
         raise InputError(document_source(instance.root.Document), None,
                          f"{instance.path} is tagged as a wafer but {exc}") from None
-    holder = roles.role_holder(instance.obj)
-    bow = _value(holder.Bow) if "Bow" in holder.PropertiesList else 0.0  # SPEC §10
     return Wafer(name=name, center=center, normal=normal, diameter=diameter,
                  thickness=thickness, bow=bow)
 

@@ -10,7 +10,7 @@ import FreeCAD as App
 
 from ..core.scenario import SUPPORT_OVERLAP
 from . import role_properties
-from .disc import NotADisc, disc_of
+from .disc import NotADisc, bowed_disc_of, disc_of
 
 GROUP = "WaferScan"
 ROLE = "WaferScanRole"
@@ -57,7 +57,12 @@ def tag_wafer(obj):
     if shape is None or shape.isNull():
         raise NotADisc(f"{obj.Label} has no shape")
     try:
-        disc_of(shape)
+        try:
+            disc_of(shape)
+        except NotADisc:
+            if not getattr(obj, "Bow", 0.0):
+                raise
+            bowed_disc_of(shape, float(obj.Bow))  # a bowed wafer (SPEC §10) tagged again
     except NotADisc as exc:
         raise NotADisc(f"{obj.Label} is not a wafer: {exc}") from None
     set_role(obj, WAFER)

@@ -17,7 +17,12 @@ from .role_properties import LATCH_TIP, SENSOR_PROPERTIES
 
 def add_sensor_properties(obj, layout):
     """Add the §10 properties to a ScanSettings object, filled from the layout."""
-    values = sensor_settings.current_values(layout)
+    add_sensor_values(obj, sensor_settings.current_values(layout))
+
+
+def add_sensor_values(obj, values):
+    """Add the §10 properties to a ScanSettings object, filled from ``values`` (every key of
+    ``core.sensor_settings``, as ``current_values`` or ``values_with_defaults`` give them)."""
     for prop, kind, key, tip in SENSOR_PROPERTIES:
         value = values[key]
         if key == "acceleration" and math.isinf(value):
@@ -26,7 +31,7 @@ def add_sensor_properties(obj, layout):
     roles.add_property(obj, "App::PropertyEnumeration", "Latch",
                        LATCH_TIP)
     obj.Latch = list(LATCHES)
-    obj.Latch = layout.scan.latch
+    obj.Latch = values["latch"]
 
 
 def _number(quantity):

@@ -187,18 +187,22 @@ def key_line(text, table, key):
     return _Lines(text.lstrip("\ufeff")).of(table, None, key)
 
 
-def read_scenario(path, default_mapping=None):
-    """Read a scenario file into a ``Layout``; ``default_mapping`` as in ``parse_scenario``."""
+def read_scenario(path, default_mapping=None, default_sensor=None):
+    """Read a scenario file into a ``Layout``; ``default_mapping`` and ``default_sensor`` as in
+    ``parse_scenario``."""
     path = Path(path)
     text = read_text(path, "the scenario")
     return parse_scenario(text, str(path), folder=path.resolve().parent,
-                          default_mapping=default_mapping)
+                          default_mapping=default_mapping, default_sensor=default_sensor)
 
 
-def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None):
+def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None,
+                   default_sensor=None):
     """Parse scenario text into a ``Layout``; ``source`` names it in error messages, ``folder``
     is where relative paths start (the current folder when None). ``default_mapping``: the
-    ``MappingTolerances`` a scenario without a [mapping] table gets (None: the core's)."""
+    ``MappingTolerances`` a scenario without a [mapping] table gets (None: the core's).
+    ``default_sensor``: SPEC §10 values (and sensor_response) for what the scenario does not
+    set, by ``sensor_settings.DEFAULT_GROUPS`` (None: the ideal sensor's)."""
     data = _toml(text, source)
     reader = _Reader(source, text, Path(folder) if folder is not None else Path.cwd())
     _check_tables(reader, data)
@@ -223,7 +227,8 @@ def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None)
     robot = _robot(reader, data["robot"]) if "robot" in data else None
     layout = Layout(carriers=tuple(carriers), wafers=tuple(wafers), beam=beam, scan=scan,
                     lift_axis=lift_axis, mapping=mapping, carrier=chosen, robot=robot)
-    layout = _sensor_settings(reader, layout, data.get("sensor", {}), data.get("scan", {}))
+    layout = _sensor_settings(reader, layout, data.get("sensor", {}), data.get("scan", {}),
+                              default_sensor)
     _check_layout(reader, layout, len(data.get("wafer", [])))
     if default_mapping is not None and "mapping" not in data:
         layout = replace(layout, mapping=default_mapping)
@@ -356,10 +361,15 @@ def _carrier(reader, data, i):
 _SENSOR_KEYS = {"emitter", "direction", "length", "lift_axis"} | set(sensor_settings.SPOT_KEYS)
 
 
-def _sensor_settings(reader, layout, sensor, scan_table):
-    """SPEC §10's [sensor] spot and threshold keys and [scan] latch keys, on the layout."""
-    values = {k: reader.value(sensor, "sensor", k, check)
-              for k, check in sensor_settings.SPOT_KEYS.items() if k in sensor}
+def _sensor_settings(reader, layout, sensor, scan_table, defaults=None):
+    """SPEC §10's [sensor] spot and threshold keys and [scan] latch keys, on the layout;
+    ``defaults`` fill what neither table sets."""
+    values = sensor_settings.defaults_not_given(defaults or {}, set(sensor) | set(scan_table))
+    if "sensor_response" in values:
+        layout = replace(layout, scan=replace(layout.scan,
+                                              sensor_response=values.pop("sensor_response")))
+    values.update({k: reader.value(sensor, "sensor", k, check)
+                   for k, check in sensor_settings.SPOT_KEYS.items() if k in sensor})
     values.update({k: reader.value(scan_table, "scan", k, check)
                    for k, check in sensor_settings.MOTION_KEYS.items() if k in scan_table})
     if not values:

@@ -121,6 +121,34 @@ def with_settings(layout, values):
                    amplifier=None if amplifier == DEFAULT_AMPLIFIER else amplifier)
 
 
+# The §10 values that go together, and the scan's sensor_response, for defaults given from
+# outside a scenario (the GUI's preferences): a default fills a group only when the scenario
+# gives none of the group's keys, so that a default never mixes with the scenario's own choice
+# (a preferred round spot with the scenario's slit, a preferred OFF level above its ON level, a
+# preferred read period with its latch).
+DEFAULT_GROUPS = (("spot_diameter", "spot_width", "spot_height"),
+                  ("threshold_on", "threshold_off"), ("latch", "sample_period"),
+                  ("acceleration",), ("sensor_response",))
+
+
+def defaults_not_given(defaults, given):
+    """The ``defaults`` (a dict of §10 keys and sensor_response, checked values) of the groups
+    none of whose keys is in ``given`` (the keys a scenario sets)."""
+    return {key: defaults[key] for group in DEFAULT_GROUPS
+            if not any(k in given for k in group) for key in group if key in defaults}
+
+
+def values_with_defaults(defaults):
+    """Every §10 key's value for a new scan-settings object: the ideal sensor's, with the
+    ``defaults`` given in place (threshold_off follows threshold_on unless given)."""
+    values = {"spot_diameter": 0.0, "spot_width": 0.0, "spot_height": 0.0,
+              "threshold_on": DEFAULT_AMPLIFIER.threshold_on, "latch": STEP,
+              "acceleration": math.inf, "sample_period": 0.0}
+    values.update({k: v for k, v in defaults.items() if k in SETTING_KEYS})
+    values.setdefault("threshold_off", values["threshold_on"])
+    return values
+
+
 class SettingsError(ValueError):
     """A §10 setting that does not fit the others; ``key`` is the one to blame."""
 

@@ -125,11 +125,13 @@ def _show_task_panel(panel):
 
 def open_scenario(path):
     """Build a scenario into a new document and show it all. A scenario without a [mapping]
-    table gets the preferences' tolerances."""
+    table gets the preferences' tolerances, and the preferences' sensor defaults fill what its
+    [sensor] and [scan] tables do not set (SPEC §10)."""
     from ..cad.builder import build_document
     from ..core.scenario import read_scenario
 
-    layout = read_scenario(path, default_mapping=preferences.mapping_tolerances())
+    layout = read_scenario(path, default_mapping=preferences.mapping_tolerances(),
+                           default_sensor=preferences.sensor_defaults())
     doc = build_document(layout, name=Path(path).stem.replace("-", "_") or "Layout")
     Gui.getDocument(doc.Name).ActiveView.viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
@@ -140,13 +142,16 @@ def open_scenario(path):
 
 def ensure_settings(doc, scene=None):
     """A document scanned without a ScanSettings object gets one, as an undoable step the user
-    can then edit: the reader's defaults, the preferences' tolerances, and a range that covers
-    the windows of the carrier's slots (SPEC §3), wherever the scanner happens to stand. With
+    can then edit: the reader's defaults, the preferences' tolerances and sensor defaults
+    (SPEC §10), and a range that covers the windows of the carrier's slots (SPEC §3), wherever
+    the scanner happens to stand. With
     several carriers tagged, the user chooses the one to scan. ``scene``: the document's
     DocumentScene when already read. Returns the new ScanSettings object, or None."""
     from ..cad import roles
     from ..cad.features import make_settings
     from ..cad.reader import DocumentScene, carrier_from
+    from ..cad.sensor_properties import add_sensor_values
+    from ..core.sensor_settings import values_with_defaults
 
     if any(roles.role_of(o) == roles.SETTINGS for o in doc.Objects):
         return None
@@ -155,11 +160,16 @@ def ensure_settings(doc, scene=None):
     carriers = [carrier_from(i) for i in scene.carriers]
     chosen = _choose_carrier(doc, carriers) if len(carriers) > 1 else None
     carrier = chosen or carriers[0]
+    sensor = preferences.sensor_defaults()
+    motion = {k: sensor[k] for k in ("sensor_response", "latch", "acceleration",
+                                     "sample_period") if k in sensor}
     scan = ScanParameters(start_z=carrier.seat_z(1) - 0.5 * carrier.pitch,
-                          final_z=carrier.seat_z(carrier.slot_count) + 0.5 * carrier.pitch)
+                          final_z=carrier.seat_z(carrier.slot_count) + 0.5 * carrier.pitch,
+                          **motion)
     with transaction(doc, "Add WaferScan scan settings"):
         settings = make_settings(doc, scan, preferences.mapping_tolerances(),
                                  chosen.name if chosen else None)
+        add_sensor_values(settings, values_with_defaults(sensor))  # SPEC §10
     App.Console.PrintMessage(f"WaferScan: added {settings.Label} to {doc.Label} (scan of "
                              f"{carrier.name} from {format_length(scan.start_z)} to "
                              f"{format_length(scan.final_z)}: its slots' windows)\n")

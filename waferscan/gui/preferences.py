@@ -1,6 +1,7 @@
 """The workbench's preferences (Edit → Preferences → WaferScan): the mapping tolerances given to
-layouts that do not set their own, the MCS folder the link panel opens with, and the animation's
-playback time. They live in FreeCAD's parameters under ``Mod/WaferScan``."""
+layouts that do not set their own, the sensor defaults of new scan settings (sensor_preferences),
+the MCS folder the link panel opens with, and the animation's playback time. They live in
+FreeCAD's parameters under ``Mod/WaferScan``."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from PySide import QtGui
 from ..core.model import MappingTolerances
 from ..core.rules import HALF_THICKNESS_STORED, thickness_tolerance_from_stored
 from .inputs import folder_row, length_input, length_value, set_length
+from .sensor_preferences import SensorDefaultsBox, sensor_defaults  # noqa: F401 (for commands)
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 _DEFAULTS = MappingTolerances()
@@ -106,8 +108,9 @@ class PreferencesPage:
                              (self.protrusion, "ProtrusionLimit"), (self.folder, "McsFolder"),
                              (self.speed, "PlaybackSeconds")):
             widget.setObjectName(name)
+        self.sensor = SensorDefaultsBox()
         layout = QtGui.QVBoxLayout(self.form)
-        for box in (tolerances, link, animation):
+        for box in (tolerances, self.sensor.box, link, animation):
             layout.addWidget(box)
         layout.addStretch(1)
 
@@ -122,6 +125,7 @@ class PreferencesPage:
         self._loaded_speed = playback_seconds()
         self.speed.setValue(self._loaded_speed)
         self._shown_speed = self.speed.value()  # rounded to the field's decimals
+        self.sensor.load()
 
     def saveSettings(self):
         """Store what the page shows. A field the user left alone stores the exact value it
@@ -144,6 +148,7 @@ class PreferencesPage:
                    position_tolerance=typed(self.position, "position tolerance"),
                    protrusion_limit=typed(self.protrusion, "protrusion limit"),
                    folder=self.folder.text().strip(), speed=speed)
+        self.sensor.save()
 
 
 def register():

@@ -17,8 +17,12 @@ from .inputs import length_input
 
 # (property, label, kind): "length" fields take a unit (the user's by default), "number"
 # fields a bare number (the thresholds are fractions, the sweep is in degrees).
-FIELDS = (("SpotDiameter", "Spot ⌀", "length"), ("ThresholdOn", "On at", "number"),
-          ("ThresholdOff", "Off at", "number"), ("Jab", "Jab", "length"),
+# The slit's sizes, the stroke's acceleration (mm/s², 0: full speed at once) and the read period
+# (s, needed by latch = sampled) complete SPEC §10's settings.
+FIELDS = (("SpotDiameter", "Spot ⌀", "length"), ("SpotWidth", "Slit width", "length"),
+          ("SpotHeight", "Slit height", "length"), ("ThresholdOn", "On at", "number"),
+          ("ThresholdOff", "Off at", "number"), ("Acceleration", "Acc. mm/s²", "number"),
+          ("SamplePeriod", "Sample s", "number"), ("Jab", "Jab", "length"),
           ("Sweep", "Sweep °", "number"))
 
 
