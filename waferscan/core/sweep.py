@@ -936,7 +936,8 @@ def wilson(k, n, z=Z95):
     denom = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / denom
     half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4 * n * n)) / denom
-    return (max(0.0, centre - half), min(1.0, centre + half))
+    # At k = 0 (k = n) the low (high) end is 0 (1) exactly, not a rounding residue of it.
+    return (0.0 if k == 0 else max(0.0, centre - half), 1.0 if k == n else min(1.0, centre + half))
 
 
 PERCENTILES = (1, 5, 50, 95, 99)
@@ -986,10 +987,7 @@ def summarise(base, tolerances, n, seed, tally):
     low, high = plan.thickness_window()
     below, above = plan.position_window()
     th, off = tally["measured"]["present"]
-    margins = {
-        "thickness": _distribution(np.minimum(th - low, high - th)),
-        "position": _distribution(np.minimum(off + below, above - off)),
-    }
+    margins = {key: _distribution(values) for key, values in margin_values(plan, tally).items()}
     # Safer thresholds: each limit halfway between the present wafers' extreme and the nearest
     # reading of the state on the other side (or, with none drawn, that state's nominal reading:
     # a thin wafer THIN_FACTOR t, a double 2 t, a misplaced wafer MISPLACED_RISE off its seat).
@@ -1035,12 +1033,23 @@ def summarise(base, tolerances, n, seed, tally):
     }
 
 
-def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
-              map_partitions=None, progress=None):
-    """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.tolerances.Tolerances) and
-    return the summary dict. ``plan`` / ``rules``: the recipe (default: the layout's own).
-    ``map_partitions(function, args_list, progress)`` runs the partitions (default: here, one
-    after another; the Dask runner passes its own); ``progress(done, total)`` after each."""
+def margin_values(plan, tally):
+    """The thickness and position margins (mm, > 0 inside the recipe's windows) of every truly
+    present wafer the scan saw: {"thickness": array, "position": array}."""
+    import numpy as np
+
+    low, high = plan.thickness_window()
+    below, above = plan.position_window()
+    th, off = tally["measured"]["present"]
+    return {"thickness": np.minimum(th - low, high - th),
+            "position": np.minimum(off + below, above - off)}
+
+
+def sweep_tally(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
+                map_partitions=None, progress=None):
+    """Run the sweep and return (base, tally): ``run_sweep`` before its summary."""
+    if n < 1:
+        raise ValueError(f"a sweep needs at least one layout, got n = {n}")
     base = sweep_base(layout, plan, rules)
     parts = partitions(n, partition_count)
     args = [(base, tolerances, seed, n, blocks) for blocks in parts]
@@ -1052,4 +1061,21 @@ def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_co
                 progress(i + 1, len(args))
     else:
         tallies = map_partitions(partition_tally, args, progress)
-    return summarise(base, tolerances, n, seed, combine_tallies(tallies))
+    return base, combine_tallies(tallies)
+
+
+def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
+              map_partitions=None, progress=None):
+    """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.tolerances.Tolerances) and
+    return the summary dict (summary.json's content). ``plan`` / ``rules``: the recipe
+    (default: the layout's own). The blocks are grouped into ``partition_count`` partitions;
+    ``map_partitions(function, args_list, progress)`` runs them (default: here, one after
+    another; the Dask runner passes its own); ``progress(done, total)`` after each. The result
+    depends only on the layout, the tolerances, N and the seed. From a script:
+
+        layout = read_scenario("resources/examples/paper.toml")
+        summary = run_sweep(layout, read_tolerances("fab_tolerances.toml"), 10_000, seed=1)
+    """
+    base, tally = sweep_tally(layout, tolerances, n, seed, plan, rules, partition_count,
+                              map_partitions, progress)
+    return summarise(base, tolerances, n, seed, tally)
