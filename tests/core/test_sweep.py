@@ -130,6 +130,22 @@ thin = 0.1
             assert equal(got, want)
 
 
+def test_vectorised_equals_scalar_path_for_level_wafers_and_a_tilted_beam(monkeypatch):
+    """Level wafers crossed by a tilted beam: the rim bounds the beam alone, two parallel
+    lines of translation_range's region (its degenerate conic), done in arrays too."""
+    settled_by_scalar = []
+    scalar_steps = sweep._scalar_steps
+    monkeypatch.setattr(sweep, "_scalar_steps",
+                        lambda *a: settled_by_scalar.append(a) or scalar_steps(*a))
+    tol = parse_tolerances(EVERYTHING.replace("hi = 0.4", "hi = 0.0"))
+    base = sweep.sweep_base(paper())
+    draws, fast, slow = oracle(base, tol, 8, 200)
+    assert (draws.normal[..., 2] == 1.0).sum() > 0.8 * draws.exists.sum()
+    for got, want in zip(fast, slow):
+        assert equal(got, want)
+    assert len(settled_by_scalar) <= 0.001 * draws.exists.sum()
+
+
 def test_scalar_path_is_scan_layout_on_a_normal_layout():
     """The oracle itself: a sampled layout scanned by scan_layout gives the scalar path's code
     (the layout's own plan, no recipe override)."""

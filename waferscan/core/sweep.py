@@ -241,8 +241,6 @@ def draw_block(base, tolerances, seed, block, count):
     exists[..., 0] = (kind != EMPTY) & (kind != -1)
     exists[..., 1] = kind == DOUBLE
     z = np.broadcast_to(seat[None, :, None], (m, S, 2)).copy()
-    # A double's second wafer lies on the first (scenario: seat + t).
-    z[..., 1] = z[..., 1] + t[..., 0]
     z = np.where((kind == POSITION_ERROR)[..., None], z + MISPLACED_RISE, z)
     z = np.where((kind == CROSS)[..., None], z + 0.5 * carrier.pitch, z)
     thickness = np.where((kind == THIN)[..., None], THIN_FACTOR * t, t)
@@ -264,6 +262,10 @@ def draw_block(base, tolerances, seed, block, count):
     if "tilt" in draws:
         normal = _tilted(normal, draws["tilt"], draws["tilt_axis"])
     center = np.stack([x, y, z], axis=-1)
+    # A double's second wafer lies on the first, whatever its seat, tilt and protrusion: its
+    # bottom face on the first's top face (the scenario's seat + t for a level pair).
+    center[..., 1, :] = center[..., 0, :] + thickness[..., 0, None] * normal[..., 0, :]
+    normal[..., 1, :] = normal[..., 0, :]
     bow = draws.get("bow", zeros + _base_bow(base))
     e0 = base.layout.beam.direction
     direction = np.tile(np.array(e0, dtype=float), (m, 1))
@@ -465,11 +467,13 @@ def _ranges(emitter, direction, axis, center, normal, radius, thickness, bow, le
             hi[bowed_level] = b_hi[bowed_level]
             hit[bowed_level] = b_hit[bowed_level]
         general = flat & ~level
-        # Degenerate cases of _boundary_lines go to the scalar function.
+        # geometry._boundary_lines' special cases: beam and axis both along the faces, or both
+        # without a part across the normal, go to the scalar function; beam and axis across
+        # the normal along one line (a level wafer and a tilted beam: g = 0) make the rim two
+        # parallel lines, handled here beside the true conic.
         cross2 = ((qy * gz - qz * gy) ** 2 + (qz * gx - qx * gz) ** 2
                   + (qx * gy - qy * gx) ** 2)
-        odd = general & (((en == 0.0) & (an == 0.0)) | ((qq == 0.0) & (gg == 0.0))
-                         | (cross2 <= 1e-20 * qq * gg))
+        odd = general & (((en == 0.0) & (an == 0.0)) | ((qq == 0.0) & (gg == 0.0)))
         scalar |= odd | (~flat & ~bowed_level)
         general &= ~odd
         if general.any():
@@ -477,7 +481,7 @@ def _ranges(emitter, direction, axis, center, normal, radius, thickness, bow, le
             g_lo, g_hi, g_hit = _general_range(
                 wn[idx], en[idx], an[idx], (px[idx], py[idx], pz[idx]),
                 (qx[idx], qy[idx], qz[idx]), (gx[idx], gy[idx], gz[idx]), r[idx], r2[idx],
-                t[idx], length, tol)
+                t[idx], length, tol, cross2[idx] <= 1e-20 * qq[idx] * gg[idx])
             lo[idx], hi[idx], hit[idx] = g_lo, g_hi, g_hit
     hit &= ~scalar
     return lo, hi, hit, scalar
@@ -519,9 +523,10 @@ def _bowed_level(wn, en, an, px, py, pz, qx, qy, qz, radius, t, bow, length, tol
     return lo, hi, ok
 
 
-def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol):
-    """geometry.translation_range's corners over arrays: every crossing of two of the four
-    boundary lines, where each line and the tangent line meet the rim; the feasible ones'
+def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol, parallel):
+    """geometry.translation_range's corners over arrays: every crossing of two boundary lines
+    (the beam's ends, the faces, and where ``parallel`` the rim as two parallel lines), and
+    elsewhere where each line and the tangent line meet the rim (a conic); the feasible ones'
     lowest and highest tau."""
     import numpy as np
 
@@ -531,17 +536,31 @@ def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol):
     one, zero = np.ones_like(wn), np.zeros_like(wn)
     lines = [(one, zero, zero - tol), (one, zero, zero + (length + tol)),
              (en, an, -tol - wn), (en, an, t + tol - wn)]
+    rows_ok = [True, True, True, True]
+    empty = np.zeros(wn.shape, dtype=bool)
+    if parallel.any():
+        qq, gg = dot(q, q), dot(g, g)
+        big = tuple(np.where(qq >= gg, qi, gi) for qi, gi in zip(q, g))
+        norm = np.sqrt(dot(big, big))
+        u = tuple(b / norm for b in big)
+        qu, gu, pu = dot(q, u), dot(g, u), dot(p, u)
+        disc = pu * pu - (dot(p, p) - r2)
+        empty = parallel & (disc < 0.0)
+        root = np.sqrt(np.maximum(disc, 0.0))
+        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
+        rows_ok += [parallel, parallel]
     cands = []
     for i, first in enumerate(lines):
-        for second in lines[i + 1:]:
+        for j in range(i + 1, len(lines)):
+            second = lines[j]
             a1, b1, c1 = first
             a2, b2, c2 = second
             det = a1 * b2 - a2 * b1
             scale = np.hypot(a1, b1) * np.hypot(a2, b2)
-            valid = ~((scale == 0.0) | (np.abs(det) <= 1e-14 * scale))
+            valid = ~((scale == 0.0) | (np.abs(det) <= 1e-14 * scale)) & rows_ok[i] & rows_ok[j]
             cands.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
     tangent = (dot(q, q), dot(q, g), -dot(q, p))
-    for alpha, beta, gamma in lines + [tangent]:
+    for alpha, beta, gamma in lines[:4] + [tangent]:
         nn = alpha * alpha + beta * beta
         lam0 = gamma * alpha / nn
         tau0 = gamma * beta / nn
@@ -553,7 +572,7 @@ def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol):
         cc = dot(p0, p0) - r2
         disc = pv * pv - vv * cc
         root = np.sqrt(np.maximum(disc, 0.0))
-        valid = (nn != 0.0) & (vv != 0.0) & (disc >= 0.0)
+        valid = (nn != 0.0) & (vv != 0.0) & (disc >= 0.0) & ~parallel
         for s in ((-pv - root) / vv, (-pv + root) / vv):
             cands.append((lam0 + s * dlam, tau0 + s * dtau, valid))
     slack = 1e-9
@@ -567,7 +586,7 @@ def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol):
         ok &= dot(x, x) <= r2 + 2.0 * r * slack
         best_lo = np.where(ok, np.minimum(best_lo, tau), best_lo)
         best_hi = np.where(ok, np.maximum(best_hi, tau), best_hi)
-    hit = best_lo <= best_hi
+    hit = (best_lo <= best_hi) & ~empty
     return best_lo, best_hi, hit
 
 
@@ -575,8 +594,15 @@ def _scalar_steps(base, draws, i, s, k):
     """One wafer's stepped interval by the scalar engine (engines._snap_to_grid et al.)."""
     from .engines import _is_level, _settled_steps, _snap_to_grid, wafer_edges
 
-    layout = sample_layout(base, draws, i)
-    wafer = next(w for w in layout.wafers if w.name == f"{base.carrier.name}_S{s + 1:02d}_{k}")
+    carrier = base.carrier
+    wafer = Wafer(name=f"{carrier.name}_S{s + 1:02d}_{k}",
+                  center=tuple(float(v) for v in draws.center[i, s, k]),
+                  normal=tuple(float(v) for v in draws.normal[i, s, k]),
+                  diameter=carrier.wafer_diameter, thickness=float(draws.thickness[i, s, k]),
+                  carrier=carrier.name, slot=s + 1, bow=float(draws.bow[i, s, k]))
+    beam = base.layout.beam
+    layout = replace(base.layout, wafers=(wafer,), beam=Beam(
+        beam.emitter, tuple(float(v) for v in draws.direction[i]), beam.length))
     edges = wafer_edges(layout, wafer)
     if edges is None:
         return None
