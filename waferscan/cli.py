@@ -256,7 +256,7 @@ def cmd_bench(args):
             print(bench.format_row(row), flush=True)
 
     report = bench.run_bench(paper_scenario(), quick=args.quick, gui=not args.no_gui,
-                             mcs=not args.no_mcs, progress=show)
+                             mcs=not args.no_mcs, progress=show, only=args.only)
     if args.plot:
         bench.plot(report, args.plot)
     if args.json:
@@ -373,6 +373,8 @@ def build_parser():
     bench.add_argument("--quick", action="store_true", help="smaller sweeps, fewer rounds")
     bench.add_argument("--no-gui", action="store_true", help="skip the GUI animation measure")
     bench.add_argument("--no-mcs", action="store_true", help="skip the MCS link measures")
+    bench.add_argument("--only", choices=("sweep",), help="measure only these figures "
+                                                         "(sweep: SPEC §12's sweeps)")
     bench.add_argument("--plot", metavar="PNG", help="also plot cost against wafers and "
                                                      "against MCS history (needs matplotlib)")
     bench.set_defaults(run=cmd_bench)

@@ -69,6 +69,21 @@ class ProgressLine:
             self.stream.write("\n")
 
 
+def local_cluster(workers):
+    """A ``distributed.LocalCluster`` of ``workers`` single-threaded worker processes on this
+    machine, quiet: the scheduler's and nannies' INFO lines (on closing too) are not the
+    user's business."""
+    import logging
+
+    from distributed import LocalCluster
+
+    for name in ("distributed", "distributed.scheduler", "distributed.nanny",
+                 "distributed.core", "distributed.worker"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                        dashboard_address=None, silence_logs=logging.ERROR)
+
+
 def _dask_mapper(client, sizes_of):
     """A ``map_partitions`` for core.sweep.run_sweep that submits each partition as a Dask
     future and reports progress as they finish; results come back in partition order."""
@@ -108,14 +123,12 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
     if workers == 0 and scheduler is None:
         count = partition_count or 1
         return _sweep(layout, tolerances, n, seed, rules, count, None, progress)
-    from distributed import Client, LocalCluster
-    import logging
+    from distributed import Client
 
     cluster = None
     if scheduler is None:
         workers = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+        cluster = local_cluster(workers)
         client = Client(cluster)
     else:
         try:
@@ -291,10 +304,10 @@ def format_summary(summary):
     names = sweep.STATE_KEYS
     lines = [f"{summary['n']:,} layouts, seed {summary['seed']}, rules {summary['rules']}",
              "", "confusion (true down, reported across):",
-             "  " + " ".join(f"{n[:9]:>9}" for n in ["true"] + list(names))]
+             "  " + f"{'true':>14} " + " ".join(f"{n[:10]:>10}" for n in names)]
     for true, counts in summary["confusion"].items():
-        lines.append("  " + f"{true[:9]:>9} " + " ".join(f"{counts.get(r, 0):>9,}"
-                                                        for r in names))
+        lines.append("  " + f"{true:>14} " + " ".join(f"{counts.get(r, 0):>10,}"
+                                                      for r in names))
     lines += ["", "per state: miss rate [95 %], false-call rate [95 %]"]
     for state, r in summary["rates"].items():
         def pct(v, ci):

@@ -908,8 +908,11 @@ def block_tally(base, result):
         thickness = thickness / plan.thickness_correction
     offset = result["bottom"] - seats[None, :]
     measured = {}
+    # A slot's own run: not a cross-slotted run from a neighbour, not half a pitch off its seat.
+    own = ~np.isnan(thickness) & (reported != CROSS) & (reported != UNSCANNED) & \
+        (np.abs(offset) < 0.5 * plan.pitch)
     for code in (PRESENT, THIN, DOUBLE, POSITION_ERROR):
-        sel = (truth == code) & ~np.isnan(thickness)
+        sel = (truth == code) & own
         measured[STATE_KEYS[code]] = (thickness[sel], offset[sel])
     return {"confusion": confusion, "measured": measured}
 
