@@ -80,8 +80,26 @@ def local_cluster(workers):
     for name in ("distributed", "distributed.scheduler", "distributed.nanny",
                  "distributed.core", "distributed.worker"):
         logging.getLogger(name).setLevel(logging.ERROR)
+    _python_for_workers()
     return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                         dashboard_address=None, silence_logs=logging.ERROR)
+
+
+def _python_for_workers():
+    """Inside ``freecadcmd`` (FreeCAD 0.20 quirk: ``sys.executable`` is freecadcmd itself)
+    multiprocessing would start the workers as freecadcmd, which takes their arguments for its
+    own options and exits. They are started with the venv's Python (same version) instead."""
+    import multiprocessing
+
+    if Path(sys.executable).name.startswith("python"):
+        return
+    from .addon import venv_dir
+
+    python = Path(venv_dir()) / "bin" / "python"
+    if not python.exists():
+        raise InputError(sys.executable, None, "Dask workers need a Python: run the sweep with "
+                                               "the venv's waferscan, or use --workers 0")
+    multiprocessing.set_executable(str(python))
 
 
 def _dask_mapper(client, sizes_of):
