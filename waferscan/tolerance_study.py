@@ -72,7 +72,8 @@ class ProgressLine:
 def local_cluster(workers):
     """A ``distributed.LocalCluster`` of ``workers`` single-threaded worker processes on this
     machine, quiet: the scheduler's and nannies' INFO lines (on closing too) are not the
-    user's business."""
+    user's business. Its HTTP server (health, and a dashboard where bokeh is installed) takes a
+    free port: another cluster on the machine may hold 8787."""
     import logging
 
     from distributed import LocalCluster
@@ -82,7 +83,7 @@ def local_cluster(workers):
         logging.getLogger(name).setLevel(logging.ERROR)
     _python_for_workers()
     return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                        dashboard_address=None, silence_logs=logging.ERROR)
+                        dashboard_address=":0", silence_logs=logging.ERROR)
 
 
 def _python_for_workers():
