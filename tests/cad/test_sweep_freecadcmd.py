@@ -28,3 +28,20 @@ def test_sweep_under_freecadcmd_with_two_workers_gives_the_librarys_summary(tmp_
     summary = json.loads(done.stdout[done.stdout.index("{"):])
     expected = sweep.run_sweep(read_scenario(PAPER), read_tolerances(TOLERANCES), 900, seed=3)
     assert summary == json.loads(json.dumps(expected))
+
+
+def test_a_layout_fcstd_sweeps_as_its_scenario_does(tmp_path, capsys):
+    """INPUT as a FreeCAD layout: its wafers, read back from the document, are placed in the
+    same states and give the scenario's summary, seed for seed."""
+    from waferscan import cli
+
+    layout = tmp_path / "paper.FCStd"
+    assert cli.main(["layout", str(PAPER), "-o", str(layout)]) == 0
+    capsys.readouterr()
+    outputs = []
+    for source in (layout, PAPER):
+        assert cli.main(["sweep", str(source), "--tolerances", str(TOLERANCES), "-n", "700",
+                         "--seed", "9", "--workers", "0", "--json"]) == 0
+        outputs.append(json.loads(capsys.readouterr().out))
+    assert outputs[0] == outputs[1]
+    assert outputs[0]["confusion"]["cross"]["cross"] > 0
