@@ -290,3 +290,20 @@ def test_placed_states_read_from_a_scenario_load():
     base = sweep.sweep_base(layout)
     assert base.load[:8] == (1, 3, 4, 5, 6, 2, 2, 0)
     assert base.cross_start[:8] == (False,) * 5 + (True, False, False)
+
+
+def test_spot_sweep_suggests_the_threshold_halfway_to_the_weakest_peak():
+    """With a 1 mm spot a thin wafer (a quarter of 0.7 mm) blocks at most ~0.2 of the spot:
+    threshold_on 0.5 misses it. The suggested threshold is half the weakest peak any group of
+    wafers gave, read here from each sampled layout's own scan."""
+    layout = replace(paper(), spot=BeamSpot(diameter=1.0))
+    tol = parse_tolerances("[states]\npresent = 0.6\nthin = 0.4\n")
+    summary = sweep.run_sweep(layout, tol, 3, seed=2)
+    base = sweep.sweep_base(layout)
+    draws = sweep.draw_block(base, tol, 2, 0, 3)
+    peaks = [g.peak for i in range(3)
+             for g in scan_layout(sweep.sample_layout(base, draws, i)).signal.groups]
+    assert min(peaks) < 0.3
+    assert summary["suggested"]["threshold_on"] == 0.5 * min(peaks)
+    assert summary["confusion"]["thin"]["empty"] > 0  # missed at 0.5, as on real equipment
+    assert sweep.run_sweep(paper(), tol, 3, seed=2)["suggested"]["threshold_on"] == 0.5

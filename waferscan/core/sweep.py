@@ -353,15 +353,19 @@ def sample_layout(base, draws, i):
 
 # --- the scalar path (the oracle, and the spot's path) ---------------------------------------
 
-def scalar_layout_states(base, layout):
+def scalar_layout_states(base, layout, peaks=None):
     """Reported state codes, measured thickness and bottom per slot (lists; None where a slot
-    has no run) of one layout by the scalar path: ``scan_layout`` and the recipe's mapping."""
+    has no run) of one layout by the scalar path: ``scan_layout`` and the recipe's mapping.
+    ``peaks``: a list to which the largest blocked fraction of each group of wafers a beam spot
+    saw is appended (SPEC §10; none for the ideal beam)."""
     from .scan import scan_layout
     from .scan_result import protruding_slots
     from .mapping import unscanned_slots
 
     plan = base.plan
     result = scan_layout(layout)
+    if peaks is not None and result.signal is not None:
+        peaks.extend(group.peak for group in result.signal.groups)
     runs = [(r.bottom, r.top) for r in result.runs]
     flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
     unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
@@ -379,8 +383,9 @@ def scalar_layout_states(base, layout):
     return states, thickness, bottom
 
 
-def scalar_block(base, draws):
-    """``scan_block``'s answer layout by layout through the scalar path."""
+def scalar_block(base, draws, peaks=None):
+    """``scan_block``'s answer layout by layout through the scalar path (``peaks`` as in
+    ``scalar_layout_states``)."""
     import numpy as np
 
     m, S = draws.truth.shape
@@ -388,7 +393,7 @@ def scalar_block(base, draws):
     thickness = np.full((m, S), np.nan)
     bottom = np.full((m, S), np.nan)
     for i in range(m):
-        st, th, bo = scalar_layout_states(base, sample_layout(base, draws, i))
+        st, th, bo = scalar_layout_states(base, sample_layout(base, draws, i), peaks)
         states[i] = st
         thickness[i] = [np.nan if v is None else v for v in th]
         bottom[i] = [np.nan if v is None else v for v in bo]
@@ -888,8 +893,16 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
     ``truth``, ``reported`` (m, S codes), ``thickness``, ``bottom`` (m, S, nan without a run).
     ``scalar``: through the scalar path (the oracle)."""
     draws = draw_block(base, tolerances, seed, block, count)
-    states, thickness, bottom = (scalar_block if scalar else scan_block)(base, draws)
-    return {"truth": draws.truth, "reported": states, "thickness": thickness, "bottom": bottom}
+    peaks = []
+    if scalar or needs_scalar_path(base.layout):
+        states, thickness, bottom = scalar_block(base, draws, peaks)
+    else:
+        states, thickness, bottom = scan_block(base, draws)
+    # The weakest signal a wafer gave: a beam spot's smallest peak blocked fraction over the
+    # groups of wafers it saw; the ideal beam blocks all or nothing (1).
+    weakest = min(peaks) if peaks else 1.0
+    return {"truth": draws.truth, "reported": states, "thickness": thickness, "bottom": bottom,
+            "weakest_peak": weakest}
 
 
 def block_tally(base, result):
@@ -914,7 +927,8 @@ def block_tally(base, result):
     for code in (PRESENT, THIN, DOUBLE, POSITION_ERROR):
         sel = (truth == code) & own
         measured[STATE_KEYS[code]] = (thickness[sel], offset[sel])
-    return {"confusion": confusion, "measured": measured}
+    return {"confusion": confusion, "measured": measured,
+            "weakest_peak": result.get("weakest_peak", 1.0)}
 
 
 def combine_tallies(tallies):
@@ -923,11 +937,12 @@ def combine_tallies(tallies):
     import numpy as np
 
     confusion = sum(t["confusion"] for t in tallies)
+    weakest = min(t.get("weakest_peak", 1.0) for t in tallies)
     measured = {}
     for key in tallies[0]["measured"]:
         measured[key] = (np.concatenate([t["measured"][key][0] for t in tallies]),
                          np.concatenate([t["measured"][key][1] for t in tallies]))
-    return {"confusion": confusion, "measured": measured}
+    return {"confusion": confusion, "measured": measured, "weakest_peak": weakest}
 
 
 def partition_tally(base, tolerances, seed, n, blocks):
@@ -1038,9 +1053,10 @@ def summarise(base, tolerances, n, seed, tally):
             "thickness_min": t_min, "thickness_max": t_max,
             "position_below": 0.5 * (worst_below + pos_ref),
             "position_above": 0.5 * (worst_above + pos_ref),
-            # An ideal line beam blocks all or nothing: any threshold in (0, 1] switches alike;
-            # halfway is the largest margin to both.
-            "threshold_on": 0.5,
+            # Halfway between an empty slot's blocked fraction (0) and the weakest peak a wafer
+            # gave: the largest margin to both. The ideal beam blocks all or nothing: 0.5.
+            "threshold_on": 0.5 * tally.get("weakest_peak", 1.0),
+            "weakest_peak": tally.get("weakest_peak", 1.0),
             "worst_thickness_margin": min(float(th.min()) - t_min, t_max - float(th.max())),
         }
     layout = base.layout
