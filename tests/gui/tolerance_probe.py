@@ -9,7 +9,6 @@ sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import artifact, finish, later, result, start, wait_for  # noqa: E402
 
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtGui  # noqa: E402
 
 SETTINGS = json.loads(os.environ["WAFERSCAN_GUI_SWEEP"])
 

@@ -193,7 +193,7 @@ def draw_block(base, tolerances, seed, block, count):
     from .tolerances import DRAW_ORDER
 
     rng = block_rng(seed, block)
-    carrier, plan = base.carrier, base.plan
+    carrier = base.carrier
     S = carrier.slot_count
     m = count
     # States: each slot drawn independently; a cross-slotted wafer takes the slot above too,
@@ -315,8 +315,6 @@ def _beam_tilted(e0, beta_deg):
 
 def sample_layout(base, draws, i):
     """Layout ``i`` of a block as a normal ``Layout`` (for the scalar path and for scripts)."""
-    import numpy as np
-
     from .spot import Amplifier
 
     carrier = base.carrier
@@ -346,7 +344,6 @@ def sample_layout(base, draws, i):
         off = old.threshold_off if old.threshold_off is None else min(old.threshold_off, on)
         amplifier = Amplifier(on, off)
     others = tuple(c for c in layout.carriers if c.name == carrier.name)
-    del np
     return replace(layout, carriers=others, carrier=carrier.name, wafers=tuple(wafers),
                    beam=beam, scan=scan, amplifier=amplifier)
 

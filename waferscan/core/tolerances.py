@@ -19,7 +19,6 @@ INPUT's value. Every mistake is an InputError naming the file and the line.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
