@@ -16,13 +16,14 @@ PROBE = Path(__file__).resolve().with_name("tolerance_probe.py")
 PAPER = REPO / "resources" / "examples" / "paper.toml"
 TOLERANCES = REPO / "resources" / "examples" / "fab_tolerances.toml"
 N, SEED = 1200, 9
+N_DOCUMENT = 500
 
 
 @pytest.fixture(scope="module")
 def gui(run_gui_probe, tmp_path_factory):
     out = tmp_path_factory.mktemp("sweep") / "out"
     settings = {"input": str(PAPER), "tolerances": str(TOLERANCES), "n": N, "seed": SEED,
-                "workers": 1, "out": str(out)}
+                "workers": 1, "out": str(out), "n_document": N_DOCUMENT}
     return run_gui_probe(PROBE, WAFERSCAN_GUI_SWEEP=json.dumps(settings),
                          WAFERSCAN_GUI_ARTIFACTS=str(REPO / "test-artifacts")), out
 
@@ -44,3 +45,15 @@ def test_the_dialogs_summary_is_the_librarys_for_that_seed(gui):
     expected = sweep.run_sweep(read_scenario(PAPER), read_tolerances(TOLERANCES), N,
                                seed=SEED)
     assert result["summary"] == json.loads(json.dumps(expected))
+
+
+def test_without_a_file_the_active_document_is_swept(gui):
+    """The layout field left empty: the active document (the paper's layout, built in the GUI)
+    is saved to a copy and swept; its summary is the scenario's for the same seed."""
+    result, _ = gui
+    assert result["document_state"] == "done", result["document_errors"]
+    source = result["document_args"][3]
+    assert source.endswith(f"{result['document']}.FCStd") and source != str(PAPER)
+    expected = sweep.run_sweep(read_scenario(PAPER), read_tolerances(TOLERANCES), N_DOCUMENT,
+                               seed=SEED)
+    assert result["document_summary"] == json.loads(json.dumps(expected))

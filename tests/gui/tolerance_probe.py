@@ -44,6 +44,27 @@ def step_check(dialog, seen):
     result["plots"] = [not label.pixmap().isNull() and label.pixmap().width()
                        for label in (dialog.confusion_label, dialog.margins_label)]
     dialog.grab().save(artifact("gui-tolerance-study.png"))
+    later(lambda: step_active_document(dialog))
+
+
+def step_active_document(dialog):
+    """With no layout file given, the sweep takes the active document (saved to a copy)."""
+    import waferscan.gui.commands as commands
+
+    doc = commands.open_scenario(SETTINGS["input"])
+    result["document"] = doc.Name
+    dialog.input_edit.setText("")
+    dialog.n_spin.setValue(SETTINGS["n_document"])
+    dialog.run_button.click()
+    result["document_args"] = dialog.last_arguments
+    wait_for("the sweep of the active document", lambda: dialog.state in ("done", "failed"),
+             lambda: later(lambda: step_document_done(dialog)), timeout_s=150)
+
+
+def step_document_done(dialog):
+    result["document_state"] = dialog.state
+    result["document_errors"] = dialog.errors
+    result["document_summary"] = dialog.summary
     dialog.close()
     finish()
 

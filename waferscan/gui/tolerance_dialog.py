@@ -58,6 +58,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.state = "idle"  # running, done, failed
         self.summary = None
         self.errors = []
+        self.last_arguments = None  # the command line of the last sweep started
         self._stderr = b""
         self._scratch = tempfile.mkdtemp(prefix="waferscan-sweep-")
         form = QtGui.QFormLayout()
@@ -148,6 +149,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
         except ValueError as exc:
             self._fail(str(exc))
             return
+        self.last_arguments = args
         self.state = "running"
         self.summary = None
         self._stderr = b""
