@@ -283,7 +283,7 @@ def cmd_bench(args):
             print(bench.format_row(row), flush=True)
 
     report = bench.run_bench(paper_scenario(), quick=args.quick, gui=not args.no_gui,
-                             mcs=not args.no_mcs, progress=show)
+                             mcs=not args.no_mcs, progress=show, only=args.only)
     if args.plot:
         bench.plot(report, args.plot)
     if args.json:
@@ -292,6 +292,50 @@ def cmd_bench(args):
         print()
         print(bench.format_contract(report))
     return 0
+
+
+def cmd_sweep(args):
+    from . import tolerance_study
+
+    progress = tolerance_study.ProgressLine(args.n)
+    try:
+        summary, margins = tolerance_study.run_study(
+            args.input, args.tolerances, args.n, seed=args.seed, workers=args.workers,
+            scheduler=args.scheduler, partition_count=args.partitions, rules=args.rules,
+            progress=progress)
+    finally:
+        progress.close()
+    if args.out:
+        tolerance_study.write_outputs(summary, args.out, margins)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(tolerance_study.format_summary(summary))
+        if args.out:
+            print(f"\nsummary.json, CSV tables and PNG plots written to {Path(args.out)}/")
+    return 0
+
+
+def _count(text):
+    """A whole number >= 1 (-n, --partitions)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return value
+
+
+def _workers(text):
+    """--workers: a whole number >= 0 (0: no Dask, in this process)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must not be negative, got {text!r}")
+    return value
 
 
 class _Parser(argparse.ArgumentParser):
@@ -367,9 +411,33 @@ def build_parser():
     bench.add_argument("--quick", action="store_true", help="smaller sweeps, fewer rounds")
     bench.add_argument("--no-gui", action="store_true", help="skip the GUI animation measure")
     bench.add_argument("--no-mcs", action="store_true", help="skip the MCS link measures")
+    bench.add_argument("--only", choices=("sweep",), help="measure only these figures "
+                                                         "(sweep: SPEC §12's sweeps)")
     bench.add_argument("--plot", metavar="PNG", help="also plot cost against wafers and "
                                                      "against MCS history (needs matplotlib)")
     bench.set_defaults(run=cmd_bench)
+
+    sweep = sub.add_parser("sweep", help="Monte Carlo check of a recipe under tolerances "
+                                         "(SPEC §12), on Dask")
+    sweep.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
+    sweep.add_argument("--tolerances", metavar="TOL.toml", required=True)
+    sweep.add_argument("-n", type=_count, required=True, metavar="N",
+                       help="how many layouts to draw")
+    sweep.add_argument("--seed", type=int, default=0, help="the random seed (default 0)")
+    where = sweep.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_workers, metavar="K",
+                       help="local Dask worker processes (default: one per core; 0: no Dask)")
+    where.add_argument("--scheduler", metavar="ADDR", help="an existing Dask scheduler, "
+                                                           "e.g. tcp://HOST:8786")
+    sweep.add_argument("--partitions", type=_count, metavar="P",
+                       help="how many tasks the layouts are split into (default: 4 a worker; "
+                            "the results do not depend on it)")
+    sweep.add_argument("--rules", choices=("waferscan", "boundary"),
+                       help="the rule set to map with (default: the recipe's)")
+    sweep.add_argument("--out", metavar="DIR", help="write summary.json, CSV tables and PNG "
+                                                    "plots to DIR")
+    sweep.add_argument("--json", action="store_true", help="print the summary as JSON")
+    sweep.set_defaults(run=cmd_sweep)
     return parser
 
 

@@ -34,8 +34,8 @@ def test_screenshot_saved(gui_result):
 
 
 COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Run scan", "Calibrate",
-            "MCS link…",
-            "Results table", "Slot code", "Cross-check with CAD", "Preferences…"]
+            "MCS link…", "Results table", "Slot code", "Cross-check with CAD",
+            "Tolerance study…", "Preferences…"]
 
 
 def test_the_toolbar_has_every_command_with_its_own_icon_and_a_tooltip(gui_result):

@@ -32,6 +32,7 @@ class WorkbenchSession:
         self.results_windows = {}  # document Name -> {"table" | "code": its results dialog}
         self.close_watcher = None  # the document observer that closes a closed one's dialogs
         self.pocket_animation = None  # a slow scan's jabs and sweeps playing (SPEC §13), or None
+        self.tolerance_study = None  # the "Tolerance study…" dialog shown last (SPEC §12)
 
     def keep_message_box(self, box):
         """Keep a non-blocking box alive (Qt would delete it with its last Python reference)."""
@@ -542,6 +543,18 @@ def calibrate_layout(doc):
     return calibration
 
 
+def open_tolerance_study(input_path="", **settings):
+    """The "Tolerance study…" dialog (SPEC §12), non-modal; ``settings`` preset its fields
+    (tolerances, n, seed, workers, out). Returns the dialog."""
+    from .tolerance_dialog import ToleranceStudyDialog
+
+    dialog = ToleranceStudyDialog(input_path, **settings)
+    dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+    dialog.show()
+    session.tolerance_study = dialog
+    return dialog
+
+
 # --- the commands ------------------------------------------------------------------------
 
 def record(call):
@@ -691,6 +704,19 @@ class CrossCheckCommand(_Command):
         record(f"cross_check({_doc_ref(App.ActiveDocument)})")
 
 
+class ToleranceStudyCommand(_Command):
+    shows_only = True
+    menu, icon = "Tolerance study…", "WaferScan_ToleranceStudy.svg"
+    tip = ("Monte Carlo sweep of the recipe under tolerances (seat, thickness, beam...): how "
+           "often each state is misread, the margins and safer windows (SPEC §12)")
+
+    def run(self):
+        record("open_tolerance_study()")
+
+    def IsActive(self):
+        return True
+
+
 class PreferencesCommand(_Command):
     shows_only = True
     menu, icon = "Preferences…", "WaferScan_Preferences.svg"
@@ -719,6 +745,7 @@ COMMANDS = {
     "WaferScan_Results": ResultsTableCommand(),
     "WaferScan_SlotCode": SlotCodeCommand(),
     "WaferScan_CrossCheck": CrossCheckCommand(),
+    "WaferScan_ToleranceStudy": ToleranceStudyCommand(),
     "WaferScan_Preferences": PreferencesCommand(),
 }
 

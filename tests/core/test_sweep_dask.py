@@ -1,0 +1,152 @@
+"""``waferscan sweep`` on Dask (SPEC §12): the same summary from a local cluster of one or two
+workers, from no Dask at all and from real ``dask scheduler`` / ``dask worker`` processes on
+127.0.0.1; the command's outputs; bad input exits 2 naming the file and line."""
+
+import csv
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from waferscan import cli, tolerance_study
+
+ROOT = Path(__file__).resolve().parents[2]
+PAPER = str(ROOT / "resources/examples/paper.toml")
+TOL = """
+[seat_offset]
+dist = "uniform"
+lo = -0.7
+hi = 0.7
+[thickness]
+dist = "normal"
+mean = 0.7
+sigma = 0.05
+[tilt]
+dist = "uniform"
+lo = 0.0
+hi = 0.2
+[states]
+present = 0.7
+empty = 0.2
+cross = 0.05
+double = 0.05
+"""
+
+
+@pytest.fixture
+def tol_file(tmp_path):
+    path = tmp_path / "tol.toml"
+    path.write_text(TOL)
+    return path
+
+
+def study(tol_file, **kw):
+    return tolerance_study.run_study(PAPER, tol_file, 1300, seed=4, **kw)[0]
+
+
+def test_one_and_two_local_workers_and_no_dask_give_the_same_summary(tol_file):
+    alone = study(tol_file, workers=0)
+    assert study(tol_file, workers=1) == alone
+    assert study(tol_file, workers=2, partition_count=3) == alone
+    assert alone["n"] == 1300 and alone["seed"] == 4
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_real_scheduler_and_worker_processes_give_the_local_summary(tol_file, tmp_path):
+    dask = Path(sys.executable).with_name("dask")
+    port = _free_port()
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    logs = [open(tmp_path / name, "w") for name in ("scheduler.log", "worker.log")]
+    procs = [subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port",
+                               str(port), "--no-dashboard"], cwd=ROOT, env=env,
+                              stdout=logs[0], stderr=subprocess.STDOUT)]
+    address = f"tcp://127.0.0.1:{port}"
+    try:
+        procs.append(subprocess.Popen(
+            [str(dask), "worker", address, "--nworkers", "2", "--nthreads", "1",
+             "--no-dashboard", "--host", "127.0.0.1"], cwd=ROOT, env=env,
+            stdout=logs[1], stderr=subprocess.STDOUT))
+        from distributed import Client
+
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=120)
+        remote = study(tol_file, scheduler=address)
+        assert remote == study(tol_file, workers=0)
+    finally:
+        for proc in reversed(procs):
+            proc.terminate()
+        for proc in reversed(procs):
+            try:
+                proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+        for log in logs:
+            log.close()
+
+
+def test_command_writes_summary_tables_and_plots(tol_file, tmp_path, capsys):
+    out = tmp_path / "out"
+    status = cli.main(["sweep", PAPER, "--tolerances", str(tol_file), "-n", "600",
+                       "--seed", "2", "--workers", "0", "--out", str(out)])
+    assert status == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["n"] == 600 and summary["seed"] == 2
+    assert sum(sum(row.values()) for row in summary["confusion"].values()) == 600 * 25
+    with open(out / "confusion.csv") as f:
+        rows = list(csv.reader(f))
+    names = rows[0][1:]
+    for row in rows[1:]:
+        assert [int(v) for v in row[1:]] == [summary["confusion"][row[0]].get(n, 0)
+                                              for n in names]
+    for png in ("confusion.png", "margins.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporary left
+    printed = capsys.readouterr()
+    assert "confusion" in printed.out
+    assert "sweep: 2/2 partitions" not in printed.out  # progress goes to stderr
+
+
+@pytest.mark.parametrize("text,line,words", [
+    ("[seat_offset]\ndist = \"uniform\"\nlo = -0.5\nhi = 0.5\n[warp]\ndist = \"fixed\"\n"
+     "value = 0.1\n", 5, "unknown table 'warp'"),
+    ("[thickness]\ndist = \"gauss\"\nmean = 0.7\n", 2, "'gauss' is not a distribution"),
+    ("[thickness]\ndist = \"normal\"\nmean = 0.7\nsigma = 0.01\nlo = 1\n", 5,
+     "lo: unknown key"),
+    ("[tilt]\ndist = \"uniform\"\nlo = 0.5\nhi = 0.1\n", 4, "below lo"),
+    ("\n[states]\npresent = 0.8\nempty = 0.1\n", 2, "sum to 0.9, not 1"),
+    ("[states]\npresent = 0.9\nwobbly = 0.1\n", 3, "wobbly: unknown state"),
+    ("[beam_z]\ndist = \"fixed\"\nvalue = \"high\"\n", 3, "expected a finite number"),
+])
+def test_bad_tolerance_file_exits_2_with_its_line(tmp_path, capsys, text, line, words):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    status = cli.main(["sweep", PAPER, "--tolerances", str(path), "-n", "10", "--workers",
+                       "0"])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert err.startswith(f"waferscan: error: {path}:{line}: ") and words in err, err
+    assert "Traceback" not in err
+
+
+def test_bad_count_and_bad_scheduler_exit_2(tol_file, capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["sweep", PAPER, "--tolerances", str(tol_file), "-n", "0"])
+    assert exc.value.code == 2
+    port = _free_port()  # nothing listens there
+    start = time.monotonic()
+    status = cli.main(["sweep", PAPER, "--tolerances", str(tol_file), "-n", "10",
+                       "--scheduler", f"tcp://127.0.0.1:{port}"])
+    err = capsys.readouterr().err
+    assert status == 2 and "cannot reach the Dask scheduler" in err, err
+    assert time.monotonic() - start < 120

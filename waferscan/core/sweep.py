@@ -1,0 +1,1125 @@
+"""Monte Carlo sweeps (SPEC §12): does a recipe hold under real tolerances?
+
+N layouts are drawn from an INPUT layout by a tolerance file (core/tolerances.py); each is
+scanned and mapped with the recipe, and the reported state of every slot is compared with the
+state that was placed. The draws, the scan and the mapping run in numpy over blocks of layouts
+at once (layouts x wafers), not as N scans in a Python loop:
+
+- exact edges per wafer, in closed form (``_ranges``: the same formulas as
+  ``geometry.translation_range`` and ``bow.bowed_translation_range``, over arrays: a level
+  wafer's faces, a tilted disc's extent along the lift through the corners of its region, a
+  level bowed wafer's lowest bottom and highest top over the beam's chord);
+- onto the step grid, where a grid position lies clearly inside or outside the edges; the rare
+  wafer with an edge within ``GRID_MARGIN`` of a grid position, and the geometry the array
+  formulas do not cover (a tilted bowed wafer), go through the scalar engine, so that the
+  result is the scalar path's exactly (a test holds them equal on hundreds of layouts);
+- runs per layout (overlapping intervals merged), latched as the scan latches them;
+- the mapping, by either rule set, scattered per slot with the worst finding kept.
+
+A beam spot, latching in motion or exact edges (z_step = 0) take the scalar path layout by
+layout (``scalar_block``): slower, the same answers by construction.
+
+Reproducibility: layouts are drawn in blocks of ``BLOCK_SIZE``; block b's generator is
+SeedSequence(seed, spawn_key=(b,)). The samples depend only on the seed and N, whatever the
+partitions the blocks are grouped into and the workers that run them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from . import mapping
+from .mapping import (CROSS, DOUBLE, EMPTY, LIMIT_SLACK, POSITION_ERROR, PRESENT, PROTRUDING,
+                      THIN, SlotPlan, map_slots)
+from .model import DOWN, SLOW, UP, UPDOWN, Beam, Wafer
+
+# Layouts per block: the unit the seeds are derived for. Fixed, never taken from the workers.
+BLOCK_SIZE = 500
+# A grid position nearer than this (mm) to a wafer's edge is settled by the scalar engine's own
+# test, not by the array formulas (which agree with it to ~1e-12 mm).
+GRID_MARGIN = 1e-7
+TOUCH_TOLERANCE = 1e-9
+# Reported state code of an unscanned slot in the sweep's arrays (mapping.UNSCANNED is "?").
+UNSCANNED = 7
+# Summary names, indexed by state code (SPEC §12).
+STATE_KEYS = ("empty", "present", "cross", "double", "thin", "position_error", "protruding",
+              "unscanned")
+# The scenario's wafer states (core/scenario.py) by the truth code they place.
+PLACED = {"absent": EMPTY, "present": PRESENT, "cross": CROSS, "double": DOUBLE, "thin": THIN,
+          "misplaced": POSITION_ERROR, "protruding": PROTRUDING}
+# The order [states] probabilities are laid out in for drawing: fixed (not the file's order).
+STATE_DRAW_ORDER = ("absent", "present", "cross", "double", "thin", "misplaced", "protruding")
+# Rank of each state code in mapping's severity order (EMPTY < PRESENT < THIN < POSITION_ERROR
+# < DOUBLE < CROSS < PROTRUDING).
+_RANK = (0, 1, 5, 4, 2, 3, 6)
+_BY_RANK = (EMPTY, PRESENT, THIN, POSITION_ERROR, DOUBLE, CROSS, PROTRUDING)
+
+
+# --- the base: what every sample shares ------------------------------------------------------
+
+@dataclass(frozen=True)
+class SweepBase:
+    """The INPUT layout reduced to what a sweep varies: the scanned carrier, the recipe (a
+    ``SlotPlan``) and the state placed in each slot (truth codes, slot 1 first; the slot above a
+    cross-slotted wafer is CROSS too, ``cross_start`` marks the lower one)."""
+
+    layout: object
+    carrier: object
+    plan: SlotPlan
+    load: tuple
+    cross_start: tuple
+
+
+def sweep_base(layout, plan=None, rules=None):
+    """The ``SweepBase`` of a layout: its scanned carrier, the recipe (``plan``, default the
+    layout's own; ``rules`` replaces its rule set) and the states its wafers were placed in,
+    read from their geometry (``placed_states``)."""
+    from .scan_result import slot_plan
+
+    carrier = layout.scanned_carrier
+    plan = plan or slot_plan(carrier, layout.mapping)
+    if rules is not None:
+        plan = replace(plan, rules=rules)
+    load, starts = placed_states(layout, carrier, plan)
+    return SweepBase(layout, carrier, plan, tuple(load), tuple(starts))
+
+
+def placed_states(layout, carrier, plan):
+    """Per slot of the carrier, the state its wafers were placed in (truth codes), read from the
+    wafers as the scenario builder seats them: a tilted wafer is cross-slotted (it and the slot
+    above), one raised off its seat beyond the position window misplaced, one out of the
+    opening beyond the protrusion limit protruding, a thin one thin, two in a slot double.
+    Returns (states, cross_start)."""
+    from .geometry import wafer_bounds
+    from .scan_result import _carrier_wafers, protrusion
+
+    count = carrier.slot_count
+    found = {s: [] for s in range(1, count + 1)}
+    for wafer in _carrier_wafers(carrier, layout.wafers):
+        z0 = wafer_bounds(wafer)[0][2]
+        slot = wafer.slot if wafer.slot is not None else plan.nearest_slot(z0)
+        if 1 <= slot <= count:
+            found[slot].append(wafer)
+    states = [EMPTY] * count
+    starts = [False] * count
+    below, above = plan.position_window()
+    for slot, wafers in found.items():
+        if not wafers:
+            continue
+        w = wafers[0]
+        offset = w.center[2] - carrier.seat_z(slot)
+        if abs(w.normal[2]) < 1.0 - 1e-12 and slot < count:
+            states[slot - 1] = states[slot] = CROSS
+            starts[slot - 1] = True
+        elif len(wafers) > 1:
+            states[slot - 1] = DOUBLE
+        elif protrusion(carrier, w) > plan.protrusion_limit:
+            states[slot - 1] = PROTRUDING
+        elif offset > above or -offset > below:
+            states[slot - 1] = POSITION_ERROR
+        elif w.thickness < plan.thickness_window()[0]:
+            states[slot - 1] = THIN
+        elif states[slot - 1] != CROSS:
+            states[slot - 1] = PRESENT
+    return states, starts
+
+
+# --- drawing the samples ---------------------------------------------------------------------
+
+def block_count(n):
+    """How many blocks N layouts make."""
+    return (n + BLOCK_SIZE - 1) // BLOCK_SIZE
+
+
+def block_sizes(n):
+    """The number of layouts in each block of an N-layout sweep."""
+    return [min(BLOCK_SIZE, n - b * BLOCK_SIZE) for b in range(block_count(n))]
+
+
+def block_rng(seed, block):
+    """The generator of block ``block`` of a sweep with ``seed``: depends on nothing else."""
+    import numpy as np
+
+    return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(block),)))
+
+
+@dataclass
+class Draws:
+    """A block's sampled layouts as arrays: ``truth`` (m, S) placed state codes; per wafer
+    (m, S, 2: a slot's wafer and a double's second) ``exists``, centre, normal, thickness,
+    bow; per layout the beam's direction (m, 3), sensor_response (m,) and threshold_on (m,),
+    None where the INPUT's value stands."""
+
+    truth: object
+    exists: object
+    center: object   # (m, S, 2, 3)
+    normal: object   # (m, S, 2, 3)
+    thickness: object
+    bow: object
+    direction: object
+    sensor_response: object
+    threshold_on: object
+
+    @property
+    def count(self):
+        return self.truth.shape[0]
+
+
+def _tilted(n0, theta_deg, phi):
+    """Rodrigues: the unit vectors ``n0`` (..., 3) turned by theta (deg) about the horizontal
+    axes (cos phi, sin phi, 0). A zero angle leaves n0 exactly as it was."""
+    import numpy as np
+
+    th = np.radians(theta_deg)
+    c, s = np.cos(th), np.sin(th)
+    hx, hy = np.cos(phi), np.sin(phi)
+    nx, ny, nz = n0[..., 0], n0[..., 1], n0[..., 2]
+    # h x n0 with h = (hx, hy, 0)
+    kx, ky, kz = hy * nz, -hx * nz, hx * ny - hy * nx
+    hn = hx * nx + hy * ny
+    out = np.stack([nx * c + kx * s + hx * hn * (1.0 - c),
+                    ny * c + ky * s + hy * hn * (1.0 - c),
+                    nz * c + kz * s], axis=-1)
+    return out
+
+
+def draw_block(base, tolerances, seed, block, count):
+    """Draw ``count`` layouts of block ``block`` (``Draws``). The order of the draws is fixed
+    (states, then each quantity in tolerances.DRAW_ORDER), so the seed alone decides them."""
+    import numpy as np
+
+    from .scenario import MISPLACED_RISE, PROTRUDING_SHIFT, THIN_FACTOR
+    from .tolerances import DRAW_ORDER
+
+    rng = block_rng(seed, block)
+    carrier = base.carrier
+    S = carrier.slot_count
+    m = count
+    # States: each slot drawn independently; a cross-slotted wafer takes the slot above too,
+    # whose own draw is then void; one drawn in the top slot (no slot above) is seated present.
+    if tolerances.states is not None:
+        probs = dict(tolerances.states)
+        p = np.array([probs.get(s, 0.0) for s in STATE_DRAW_ORDER])
+        edges = np.cumsum(p)
+        edges[-1] = 1.0
+        u = rng.random((m, S))
+        drawn = np.array([PLACED[s] for s in STATE_DRAW_ORDER])[
+            np.minimum(np.searchsorted(edges, u, side="right"), len(p) - 1)]
+        truth = np.empty((m, S), dtype=np.int8)
+        start = np.zeros((m, S), dtype=bool)
+        covered = np.zeros(m, dtype=bool)
+        for s in range(S):
+            own = drawn[:, s]
+            crossing = (own == CROSS) & ~covered
+            if s == S - 1:
+                own = np.where(crossing, PRESENT, own)
+                crossing = np.zeros(m, dtype=bool)
+            truth[:, s] = np.where(covered, CROSS, own)
+            start[:, s] = crossing
+            covered = crossing
+    else:
+        truth = np.tile(np.array(base.load, dtype=np.int8), (m, 1))
+        start = np.tile(np.array(base.cross_start, dtype=bool), (m, 1))
+    draws = {}
+    for name in DRAW_ORDER:
+        dist = tolerances.get(name)
+        if dist is None:
+            continue
+        per_wafer = name in ("seat_offset", "thickness", "bow", "tilt", "protrusion")
+        draws[name] = _clipped(name, dist.draw(rng, (m, S, 2) if per_wafer else (m,)))
+        if name == "tilt":
+            draws["tilt_axis"] = rng.uniform(0.0, 2.0 * math.pi, (m, S, 2))
+    zeros = np.zeros((m, S, 2))
+    t_nominal = carrier.wafer_thickness
+    t = draws.get("thickness", np.full((m, S, 2), t_nominal))
+    seat = np.array([carrier.seat_z(s) for s in range(1, S + 1)])
+    cx, cy = carrier.center
+    fx, fy = carrier.front
+    kind = np.where(truth == CROSS, np.where(start, CROSS, -1), truth)  # -1: the cross's upper
+    exists = np.zeros((m, S, 2), dtype=bool)
+    exists[..., 0] = (kind != EMPTY) & (kind != -1)
+    exists[..., 1] = kind == DOUBLE
+    z = np.broadcast_to(seat[None, :, None], (m, S, 2)).copy()
+    z = np.where((kind == POSITION_ERROR)[..., None], z + MISPLACED_RISE, z)
+    z = np.where((kind == CROSS)[..., None], z + 0.5 * carrier.pitch, z)
+    thickness = np.where((kind == THIN)[..., None], THIN_FACTOR * t, t)
+    shift = np.where((kind == PROTRUDING)[..., None], PROTRUDING_SHIFT, 0.0) + \
+        draws.get("protrusion", zeros)
+    x = cx + shift * fx
+    y = cy + shift * fy
+    z = z + draws.get("seat_offset", zeros)
+    if "beam_z" in draws:  # the beam higher than taught: every wafer lower on the scan's scale
+        z = z - draws["beam_z"][:, None, None]
+    normal = np.zeros((m, S, 2, 3))
+    normal[..., 2] = 1.0
+    slope = carrier.pitch / carrier.support_span
+    sn = slope / math.sqrt(1.0 + slope * slope)
+    cn = 1.0 / math.sqrt(1.0 + slope * slope)
+    lx, ly = carrier.lateral
+    cross_normal = np.array([-sn * lx, -sn * ly, cn])
+    normal = np.where((kind == CROSS)[..., None, None], cross_normal, normal)
+    if "tilt" in draws:
+        normal = _tilted(normal, draws["tilt"], draws["tilt_axis"])
+    center = np.stack([x, y, z], axis=-1)
+    # A double's second wafer lies on the first, whatever its seat, tilt and protrusion: its
+    # bottom face on the first's top face (the scenario's seat + t for a level pair).
+    center[..., 1, :] = center[..., 0, :] + thickness[..., 0, None] * normal[..., 0, :]
+    normal[..., 1, :] = normal[..., 0, :]
+    bow = draws.get("bow", zeros + _base_bow(base))
+    e0 = base.layout.beam.direction
+    direction = np.tile(np.array(e0, dtype=float), (m, 1))
+    if "beam_tilt" in draws:
+        direction = _beam_tilted(e0, draws["beam_tilt"])
+    return Draws(truth, exists, center, normal, thickness, bow, direction,
+                 draws.get("sensor_response"), draws.get("threshold_on"))
+
+
+# Limits no draw may pass (a normal's far tail): a thickness above 0, a response time not
+# negative, a threshold in (0, 1].
+_LIMITS = {"thickness": (1e-6, math.inf), "sensor_response": (0.0, math.inf),
+           "threshold_on": (1e-6, 1.0)}
+
+
+def _clipped(name, values):
+    import numpy as np
+
+    if name not in _LIMITS:
+        return values
+    return np.clip(values, *_LIMITS[name])
+
+
+def _base_bow(base):
+    """The INPUT's bow of its carrier's wafers (the first one's; 0 without wafers)."""
+    from .scan_result import _carrier_wafers
+
+    for wafer in _carrier_wafers(base.carrier, base.layout.wafers):
+        return wafer.bow
+    return 0.0
+
+
+def _beam_tilted(e0, beta_deg):
+    """The beam's direction ``e0`` turned by beta (deg, array) in its vertical plane."""
+    import numpy as np
+
+    ex, ey, ez = e0
+    h = math.hypot(ex, ey)
+    if h == 0.0:
+        raise ValueError("beam_tilt: the beam runs vertically, it has no vertical plane")
+    # k: the unit vector of the vertical plane normal to e0 (up for a level beam).
+    kx, ky, kz = -ez * ex / h, -ez * ey / h, h
+    b = np.radians(beta_deg)
+    c, s = np.cos(b), np.sin(b)
+    return np.stack([ex * c + kx * s, ey * c + ky * s, ez * c + kz * s], axis=-1)
+
+
+def sample_layout(base, draws, i):
+    """Layout ``i`` of a block as a normal ``Layout`` (for the scalar path and for scripts)."""
+    from .spot import Amplifier
+
+    carrier = base.carrier
+    wafers = []
+    S = carrier.slot_count
+    for s in range(S):
+        for k in range(2):
+            if not draws.exists[i, s, k]:
+                continue
+            wafers.append(Wafer(
+                name=f"{carrier.name}_S{s + 1:02d}_{k}",
+                center=tuple(float(v) for v in draws.center[i, s, k]),
+                normal=tuple(float(v) for v in draws.normal[i, s, k]),
+                diameter=carrier.wafer_diameter,
+                thickness=float(draws.thickness[i, s, k]),
+                carrier=carrier.name, slot=s + 1, bow=float(draws.bow[i, s, k])))
+    layout = base.layout
+    beam = Beam(layout.beam.emitter, tuple(float(v) for v in draws.direction[i]),
+                layout.beam.length)
+    scan = layout.scan
+    if draws.sensor_response is not None:
+        scan = replace(scan, sensor_response=float(draws.sensor_response[i]))
+    amplifier = layout.amplifier
+    if draws.threshold_on is not None:
+        old = amplifier or Amplifier()
+        on = float(draws.threshold_on[i])
+        off = old.threshold_off if old.threshold_off is None else min(old.threshold_off, on)
+        amplifier = Amplifier(on, off)
+    others = tuple(c for c in layout.carriers if c.name == carrier.name)
+    return replace(layout, carriers=others, carrier=carrier.name, wafers=tuple(wafers),
+                   beam=beam, scan=scan, amplifier=amplifier)
+
+
+# --- the scalar path (the oracle, and the spot's path) ---------------------------------------
+
+def scalar_layout_states(base, layout, peaks=None):
+    """Reported state codes, measured thickness and bottom per slot (lists; None where a slot
+    has no run) of one layout by the scalar path: ``scan_layout`` and the recipe's mapping.
+    ``peaks``: a list to which the largest blocked fraction of each group of wafers a beam spot
+    saw is appended (SPEC §10; none for the ideal beam)."""
+    from .scan import scan_layout
+    from .scan_result import protruding_slots
+    from .mapping import unscanned_slots
+
+    plan = base.plan
+    result = scan_layout(layout)
+    if peaks is not None and result.signal is not None:
+        peaks.extend(group.peak for group in result.signal.groups)
+    runs = [(r.bottom, r.top) for r in result.runs]
+    flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
+    unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
+    slot_map = map_slots(plan, runs, flagged, unscanned)
+    states, thickness, bottom = [], [], []
+    for slot in slot_map.slots:
+        states.append(UNSCANNED if slot.state == mapping.UNSCANNED else slot.state)
+        if slot.runs:
+            run = result.runs[slot.runs[0]]
+            thickness.append(run.diff)
+            bottom.append(run.bottom)
+        else:
+            thickness.append(None)
+            bottom.append(None)
+    return states, thickness, bottom
+
+
+def scalar_block(base, draws, peaks=None):
+    """``scan_block``'s answer layout by layout through the scalar path (``peaks`` as in
+    ``scalar_layout_states``)."""
+    import numpy as np
+
+    m, S = draws.truth.shape
+    states = np.zeros((m, S), dtype=np.int8)
+    thickness = np.full((m, S), np.nan)
+    bottom = np.full((m, S), np.nan)
+    for i in range(m):
+        st, th, bo = scalar_layout_states(base, sample_layout(base, draws, i), peaks)
+        states[i] = st
+        thickness[i] = [np.nan if v is None else v for v in th]
+        bottom[i] = [np.nan if v is None else v for v in bo]
+    return states, thickness, bottom
+
+
+def needs_scalar_path(layout):
+    """A beam spot, latching in motion, a slow scan's jab or sweep, or exact edges: the layout
+    is scanned by the scalar path, one layout at a time."""
+    from .sensing import ideal_sensor
+    from . import slow_scan
+
+    return (not ideal_sensor(layout) or layout.scan.exact or slow_scan.probes_pockets(layout.scan))
+
+
+# --- the vectorised scan ---------------------------------------------------------------------
+
+def _ranges(emitter, direction, axis, center, normal, radius, thickness, bow, length, tol):
+    """Vectorised ``geometry.translation_range`` over wafers (1-D arrays; ``direction`` (n, 3)
+    the beam's per wafer). Returns (lo, hi, hit, scalar): the range of lift translations, hit
+    False where the beam never meets the wafer, ``scalar`` True where the array formulas do not
+    apply (the caller asks the scalar function there)."""
+    import numpy as np
+
+    ox, oy, oz = emitter
+    ax, ay, az = axis
+    ex, ey, ez = direction[:, 0], direction[:, 1], direction[:, 2]
+    cx, cy, cz = center[:, 0], center[:, 1], center[:, 2]
+    nx, ny, nz = normal[:, 0], normal[:, 1], normal[:, 2]
+    n = len(cx)
+    lo = np.full(n, np.nan)
+    hi = np.full(n, np.nan)
+    hit = np.zeros(n, dtype=bool)
+    scalar = np.zeros(n, dtype=bool)
+    if n == 0:
+        return lo, hi, hit, scalar
+    wx, wy, wz = ox - cx, oy - cy, oz - cz
+    wn = wx * nx + wy * ny + wz * nz
+    en = ex * nx + ey * ny + ez * nz
+    an = ax * nx + ay * ny + az * nz
+    px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
+    qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
+    gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
+    r = radius + tol
+    r2 = r * r
+    t = thickness
+    flat = bow == 0.0
+    g_zero = (gx == 0.0) & (gy == 0.0) & (gz == 0.0)
+    level = flat & (en == 0.0) & (an != 0.0) & g_zero
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        # A level wafer (geometry._level_wafer_range): faces bound tau, the rim lam alone.
+        qq = qx * qx + qy * qy + qz * qz
+        pq = px * qx + py * qy + pz * qz
+        c = px * px + py * py + pz * pz - r2
+        disc = pq * pq - qq * c
+        s = -pq - np.copysign(np.sqrt(np.maximum(disc, 0.0)), pq)
+        r1 = s / qq
+        r2_ = np.where(s != 0.0, c / s, 0.0)
+        span_lo = np.where(qq == 0.0, -np.inf, np.minimum(r1, r2_))
+        span_hi = np.where(qq == 0.0, np.inf, np.maximum(r1, r2_))
+        rim_ok = np.where(qq == 0.0, c <= 0.0, disc >= 0.0)
+        rim_ok &= ~((span_hi < -tol) | (span_lo > length + tol))
+        low, high = (-tol - wn) / an, (t + tol - wn) / an
+        sel = level
+        lo[sel] = np.minimum(low, high)[sel]
+        hi[sel] = np.maximum(low, high)[sel]
+        hit[sel] = rim_ok[sel]
+
+        # A level bowed wafer lifted along its normal (bow.bowed_translation_range).
+        gg = gx * gx + gy * gy + gz * gz
+        bowed_level = ~flat & (an != 0.0) & (gg <= 1e-24)
+        if bowed_level.any():
+            b_lo, b_hi, b_hit = _bowed_level(wn, en, an, px, py, pz, qx, qy, qz, radius, t,
+                                             bow, length, tol)
+            lo[bowed_level] = b_lo[bowed_level]
+            hi[bowed_level] = b_hi[bowed_level]
+            hit[bowed_level] = b_hit[bowed_level]
+        general = flat & ~level
+        # geometry._boundary_lines' special cases: beam and axis both along the faces, or both
+        # without a part across the normal, go to the scalar function; beam and axis across
+        # the normal along one line (a level wafer and a tilted beam: g = 0) make the rim two
+        # parallel lines, handled here beside the true conic.
+        cross2 = ((qy * gz - qz * gy) ** 2 + (qz * gx - qx * gz) ** 2
+                  + (qx * gy - qy * gx) ** 2)
+        odd = general & (((en == 0.0) & (an == 0.0)) | ((qq == 0.0) & (gg == 0.0)))
+        scalar |= odd | (~flat & ~bowed_level)
+        general &= ~odd
+        if general.any():
+            idx = np.flatnonzero(general)
+            g_lo, g_hi, g_hit = _general_range(
+                wn[idx], en[idx], an[idx], (px[idx], py[idx], pz[idx]),
+                (qx[idx], qy[idx], qz[idx]), (gx[idx], gy[idx], gz[idx]), r[idx], r2[idx],
+                t[idx], length, tol, cross2[idx] <= 1e-20 * qq[idx] * gg[idx])
+            lo[idx], hi[idx], hit[idx] = g_lo, g_hi, g_hit
+    hit &= ~scalar
+    return lo, hi, hit, scalar
+
+
+def _bowed_level(wn, en, an, px, py, pz, qx, qy, qz, radius, t, bow, length, tol):
+    import numpy as np
+
+    pp = px * px + py * py + pz * pz
+    pq = px * qx + py * qy + pz * qz
+    qq = qx * qx + qy * qy + qz * qz
+    r = radius + tol
+    disc = pq * pq - qq * (pp - r * r)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    a_, b_ = (-pq - root) / qq, (-pq + root) / qq
+    c_lo = np.where(qq == 0.0, -tol, np.maximum(-tol, a_))
+    c_hi = np.where(qq == 0.0, length + tol, np.minimum(length + tol, b_))
+    ok = np.where(qq == 0.0, pp <= r * r, disc >= 0.0) & (c_lo <= c_hi)
+    k = bow / (radius * radius)
+    A = -k * qq
+    B = -2.0 * k * pq - en
+    C = bow - k * pp - tol - wn
+
+    def extremes(cc):
+        v1 = (A * c_lo + B) * c_lo + cc
+        v2 = (A * c_hi + B) * c_hi + cc
+        vertex = -B / (2.0 * A)
+        inside = (A != 0.0) & (c_lo < vertex) & (vertex < c_hi)
+        v3 = (A * vertex + B) * vertex + cc
+        small = np.minimum(v1, v2)
+        big = np.maximum(v1, v2)
+        return np.where(inside, np.minimum(small, v3), small), \
+            np.where(inside, np.maximum(big, v3), big)
+
+    low = extremes(C)[0]
+    high = extremes(C + t + 2.0 * tol)[1]
+    lo = np.where(an > 0.0, low / an, high / an)
+    hi = np.where(an > 0.0, high / an, low / an)
+    return lo, hi, ok
+
+
+def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol, parallel):
+    """geometry.translation_range's corners over arrays: every crossing of two boundary lines
+    (the beam's ends, the faces, and where ``parallel`` the rim as two parallel lines), and
+    elsewhere where each line and the tangent line meet the rim (a conic); the feasible ones'
+    lowest and highest tau."""
+    import numpy as np
+
+    def dot(a, b):
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    one, zero = np.ones_like(wn), np.zeros_like(wn)
+    lines = [(one, zero, zero - tol), (one, zero, zero + (length + tol)),
+             (en, an, -tol - wn), (en, an, t + tol - wn)]
+    rows_ok = [True, True, True, True]
+    empty = np.zeros(wn.shape, dtype=bool)
+    if parallel.any():
+        qq, gg = dot(q, q), dot(g, g)
+        big = tuple(np.where(qq >= gg, qi, gi) for qi, gi in zip(q, g))
+        norm = np.sqrt(dot(big, big))
+        u = tuple(b / norm for b in big)
+        qu, gu, pu = dot(q, u), dot(g, u), dot(p, u)
+        disc = pu * pu - (dot(p, p) - r2)
+        empty = parallel & (disc < 0.0)
+        root = np.sqrt(np.maximum(disc, 0.0))
+        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
+        rows_ok += [parallel, parallel]
+    cands = []
+    for i, first in enumerate(lines):
+        for j in range(i + 1, len(lines)):
+            second = lines[j]
+            a1, b1, c1 = first
+            a2, b2, c2 = second
+            det = a1 * b2 - a2 * b1
+            scale = np.hypot(a1, b1) * np.hypot(a2, b2)
+            valid = ~((scale == 0.0) | (np.abs(det) <= 1e-14 * scale)) & rows_ok[i] & rows_ok[j]
+            cands.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
+    tangent = (dot(q, q), dot(q, g), -dot(q, p))
+    for alpha, beta, gamma in lines[:4] + [tangent]:
+        nn = alpha * alpha + beta * beta
+        lam0 = gamma * alpha / nn
+        tau0 = gamma * beta / nn
+        dlam, dtau = -beta, alpha
+        p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
+        v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
+        vv = dot(v, v)
+        pv = dot(p0, v)
+        cc = dot(p0, p0) - r2
+        disc = pv * pv - vv * cc
+        root = np.sqrt(np.maximum(disc, 0.0))
+        valid = (nn != 0.0) & (vv != 0.0) & (disc >= 0.0) & ~parallel
+        for s in ((-pv - root) / vv, (-pv + root) / vv):
+            cands.append((lam0 + s * dlam, tau0 + s * dtau, valid))
+    slack = 1e-9
+    best_lo = np.full(wn.shape, np.inf)
+    best_hi = np.full(wn.shape, -np.inf)
+    for lam, tau, valid in cands:
+        ok = valid & (-tol - slack <= lam) & (lam <= length + tol + slack)
+        h = wn + lam * en + tau * an
+        ok &= (-tol - slack <= h) & (h <= t + tol + slack)
+        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
+        ok &= dot(x, x) <= r2 + 2.0 * r * slack
+        best_lo = np.where(ok, np.minimum(best_lo, tau), best_lo)
+        best_hi = np.where(ok, np.maximum(best_hi, tau), best_hi)
+    hit = (best_lo <= best_hi) & ~empty
+    return best_lo, best_hi, hit
+
+
+def _scalar_steps(base, draws, i, s, k):
+    """One wafer's stepped interval by the scalar engine (engines._snap_to_grid et al.)."""
+    from .engines import _is_level, _settled_steps, _snap_to_grid, wafer_edges
+
+    carrier = base.carrier
+    wafer = Wafer(name=f"{carrier.name}_S{s + 1:02d}_{k}",
+                  center=tuple(float(v) for v in draws.center[i, s, k]),
+                  normal=tuple(float(v) for v in draws.normal[i, s, k]),
+                  diameter=carrier.wafer_diameter, thickness=float(draws.thickness[i, s, k]),
+                  carrier=carrier.name, slot=s + 1, bow=float(draws.bow[i, s, k]))
+    beam = base.layout.beam
+    layout = replace(base.layout, wafers=(wafer,), beam=Beam(
+        beam.emitter, tuple(float(v) for v in draws.direction[i]), beam.length))
+    edges = wafer_edges(layout, wafer)
+    if edges is None:
+        return None
+    return (_is_level(layout, wafer) and _settled_steps(layout, edges)) or \
+        _snap_to_grid(layout, wafer, edges)
+
+
+def scan_block(base, draws):
+    """Reported state codes (m, S), measured thickness and bottom (m, S; nan without a run) of
+    a block of sampled layouts, in numpy over layouts x wafers. Equal to ``scalar_block``."""
+    import numpy as np
+
+    layout = base.layout
+    scan = layout.scan
+    plan = base.plan
+    if needs_scalar_path(layout):
+        return scalar_block(base, draws)
+    m, S = draws.truth.shape
+    W = 2 * S
+    exists = draws.exists.reshape(m, W)
+    li, wi = np.nonzero(exists)
+    center = draws.center.reshape(m, W, 3)[li, wi]
+    normal = draws.normal.reshape(m, W, 3)[li, wi]
+    radius = np.full(len(li), 0.5 * base.carrier.wafer_diameter)
+    thickness = draws.thickness.reshape(m, W)[li, wi]
+    bow = draws.bow.reshape(m, W)[li, wi]
+    lo, hi, hit, scalar = _ranges(layout.beam.emitter, draws.direction[li], layout.lift_axis,
+                                  center, normal, radius, thickness, bow, layout.beam.length,
+                                  TOUCH_TOLERANCE)
+    z0 = layout.beam.emitter[2]
+    az = layout.lift_axis[2]
+    e0 = z0 + lo * az
+    e1 = z0 + hi * az
+    step = scan.z_step
+    last = scan.last_step
+    with np.errstate(invalid="ignore"):
+        x0 = (e0 - scan.start_z) / step
+        x1 = (e1 - scan.start_z) / step
+        margin = GRID_MARGIN / step
+        near = ((np.abs(x0 - np.rint(x0)) <= margin) | (np.abs(x1 - np.rint(x1)) <= margin))
+        k_lo = np.maximum(0, np.ceil(x0))
+        k_hi = np.minimum(last, np.floor(x1))
+    near &= hit
+    hit = hit & ~near
+    scalar |= near
+    k_lo = np.where(hit, k_lo, 0).astype(np.int64)
+    k_hi = np.where(hit, k_hi, -1).astype(np.int64)
+    for j in np.flatnonzero(scalar):
+        steps = _scalar_steps(base, draws, int(li[j]), int(wi[j]) // 2, int(wi[j]) % 2)
+        if steps is not None:
+            k_lo[j], k_hi[j] = steps
+    valid = k_lo <= k_hi
+    first = np.full((m, W), np.iinfo(np.int64).max)
+    lastk = np.full((m, W), -1, dtype=np.int64)
+    first[li[valid], wi[valid]] = k_lo[valid]
+    lastk[li[valid], wi[valid]] = k_hi[valid]
+    run_lo, run_hi, run_ok = _merge_runs(first, lastk)
+    if scan.mode == SLOW:  # only the carrier's pockets are read (scan_result._window)
+        w_lo = max(0, math.ceil((plan.seat_z(1) - 0.5 * plan.pitch - scan.start_z) / step))
+        w_hi = min(last, math.floor((plan.seat_z(plan.slot_count) + 0.5 * plan.pitch
+                                     - scan.start_z) / step))
+        run_ok &= ~((run_hi < w_lo) | (run_lo > w_hi))
+        run_lo = np.maximum(run_lo, w_lo)
+        run_hi = np.minimum(run_hi, w_hi)
+    bottom = scan.start_z + run_lo * step  # ScanParameters.position
+    top = scan.start_z + run_hi * step
+    if draws.sensor_response is None:
+        bottom, top = _latched(bottom, top, scan)
+    else:
+        lag = (scan.scan_speed * draws.sensor_response)[:, None] if scan.mode != SLOW else 0.0
+        bottom, top = _latched_arrays(bottom, top, scan, lag)
+    # Compact each layout's valid runs to the left, in ascending order (they already are).
+    order = np.argsort(~run_ok, axis=1, kind="stable")
+    bottom = np.take_along_axis(bottom, order, axis=1)
+    top = np.take_along_axis(top, order, axis=1)
+    run_ok = np.take_along_axis(run_ok, order, axis=1)
+    states, first_run = map_runs(plan, bottom, top, run_ok)
+    flagged = protruding_mask(base, draws)
+    states = np.where(flagged, PROTRUDING, states)
+    unscanned = _unscanned(plan, scan)
+    if unscanned:
+        cols = np.array(unscanned) - 1
+        states[:, cols] = np.where(flagged[:, cols], PROTRUDING, UNSCANNED)
+    has = first_run < bottom.shape[1]
+    pick = np.minimum(first_run, bottom.shape[1] - 1)
+    b = np.take_along_axis(bottom, pick, axis=1)
+    tp = np.take_along_axis(top, pick, axis=1)
+    thick = np.where(has, tp - b, np.nan)
+    return states.astype(np.int8), thick, np.where(has, b, np.nan)
+
+
+def _unscanned(plan, scan):
+    from .mapping import unscanned_slots
+
+    return unscanned_slots(plan, (scan.start_z, scan.final_z))
+
+
+def _merge_runs(first, last):
+    """Per layout (rows), the union of the step intervals (first, last) (first = int max where
+    none) as runs: intervals that overlap or are adjacent merge (engines.runs_from_intervals).
+    Returns (lo, hi, ok) arrays (m, W): run j of each layout, ok where it exists."""
+    import numpy as np
+
+    m, W = first.shape
+    order = np.argsort(first, axis=1, kind="stable")
+    f = np.take_along_axis(first, order, axis=1)
+    la = np.take_along_axis(last, order, axis=1)
+    present = la >= 0
+    reach = np.maximum.accumulate(np.where(present, la, -2), axis=1)
+    before = np.concatenate([np.full((m, 1), -2, dtype=np.int64), reach[:, :-1]], axis=1)
+    new = present & (f > before + 1)
+    run_id = np.cumsum(new, axis=1) - 1
+    lo = np.zeros((m, W), dtype=np.int64)
+    hi = np.full((m, W), -1, dtype=np.int64)
+    ok = np.zeros((m, W), dtype=bool)
+    rows = np.broadcast_to(np.arange(m)[:, None], (m, W))
+    lo[rows[new], run_id[new]] = f[new]
+    ok[rows[new], run_id[new]] = True
+    flat = (rows * W + np.maximum(run_id, 0))[present]
+    hi_flat = hi.reshape(-1)
+    np.maximum.at(hi_flat, flat, la[present])
+    return lo, hi, ok
+
+
+def _latched(bottom, top, scan):
+    """(bottom, top) of runs as latched (scan_result.latch, then min/max as SensorRun does)."""
+    lag = scan.latch_lag
+    if scan.mode == SLOW or scan.direction == UP:
+        return bottom + lag, top + lag
+    if scan.direction == DOWN:
+        return bottom - lag, top - lag
+    assert scan.direction == UPDOWN
+    return 0.5 * ((bottom + lag) + (bottom - lag)), 0.5 * ((top + lag) + (top - lag))
+
+
+def _latched_arrays(bottom, top, scan, lag):
+    """``_latched`` with a per-layout lag (m, 1)."""
+    if scan.mode == SLOW:
+        return bottom, top
+    if scan.direction == UP:
+        return bottom + lag, top + lag
+    if scan.direction == DOWN:
+        return bottom - lag, top - lag
+    return 0.5 * ((bottom + lag) + (bottom - lag)), 0.5 * ((top + lag) + (top - lag))
+
+
+def protruding_mask(base, draws):
+    """(m, S) True where the load port's protrusion check flags the slot
+    (scan_result.protruding_slots over arrays)."""
+    import numpy as np
+
+    carrier, plan = base.carrier, base.plan
+    m, S = draws.truth.shape
+    W = 2 * S
+    out = np.zeros((m, S), dtype=bool)
+    c = draws.center.reshape(m, W, 3)
+    n = draws.normal.reshape(m, W, 3)
+    t = draws.thickness.reshape(m, W)
+    h = t / 2.0
+    mx, my, mz = c[..., 0] + h * n[..., 0], c[..., 1] + h * n[..., 1], c[..., 2] + h * n[..., 2]
+    r = 0.5 * carrier.wafer_diameter
+    z_lo = carrier.seat_z(1) - carrier.pitch
+    z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+    inside = draws.exists.reshape(m, W) & (np.hypot(mx - carrier.center[0],
+                                                    my - carrier.center[1]) < r) \
+        & (z_lo <= mz) & (mz <= z_hi)
+    fx, fy = carrier.front
+    along = n[..., 0] * fx + n[..., 1] * fy
+    reach = (mx - carrier.center[0]) * fx + (my - carrier.center[1]) * fy
+    reach = reach + r * np.sqrt(np.maximum(0.0, 1.0 - along * along))
+    amount = reach - 0.5 * carrier.wafer_diameter
+    flagged = inside & (amount > plan.protrusion_limit)
+    if not flagged.any():
+        return out
+    radius = 0.5 * carrier.wafer_diameter
+    bows = np.abs(draws.bow.reshape(m, W))
+    for i, w in zip(*np.nonzero(flagged)):
+        nz = float(n[i, w, 2])
+        half = radius * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * float(t[i, w])
+                                                               + float(bows[i, w])) * abs(nz)
+        z0, z1 = float(mz[i, w]) - half, float(mz[i, w]) + half
+        out[i, plan.nearest_slot(z0) - 1] = True
+        for slot in range(1, S + 1):
+            if z0 <= plan.seat_z(slot) <= z1:
+                out[i, slot - 1] = True
+    return out
+
+
+def map_runs(plan, bottom, top, ok):
+    """``mapping.map_slots`` over arrays: runs (m, R) by bottom and top (latched, ascending per
+    layout, ``ok`` where a run exists). Returns (states (m, S) codes, first_run (m, S): the
+    index of the first run in each slot, R where none)."""
+    import numpy as np
+
+    m, R = bottom.shape
+    S = plan.slot_count
+    eps = LIMIT_SLACK
+    length = top - bottom
+    if plan.thickness_correction != 1.0:
+        length = length / plan.thickness_correction
+    low, high = plan.thickness_window()
+    below, above = plan.position_window()
+    limit = plan.double_limit()
+    first = plan.first_slot_z
+    pitch = plan.pitch
+
+    def nearest(z):
+        return np.floor((z - first) / pitch + 0.5).astype(np.int64) + 1
+
+    def seat(slot):
+        return first + (slot - 1) * pitch
+
+    landings = []  # (slot, state, valid) arrays (m, R)
+    if plan.rules == mapping.BOUNDARY:
+        centre = 0.5 * (bottom + top)
+        slot = nearest(centre)
+        lowest = nearest(bottom)
+        highest = nearest(top)
+        span = int(np.max(np.where(ok, highest - lowest, 0), initial=0))
+
+        def crossed(b):
+            bz = seat(b) + 0.5 * pitch
+            return (b >= lowest) & (b < highest) & (bottom < bz - eps) & (top > bz + eps)
+
+        any_crossed = np.zeros((m, R), dtype=bool)
+        for j in range(span):
+            any_crossed |= crossed(lowest + j)
+        for j in range(span + 1):
+            s = lowest + j
+            spanned = crossed(s - 1) | crossed(s)
+            landings.append((s, np.full((m, R), CROSS), ok & any_crossed & spanned))
+        long_run = ~any_crossed & (length > limit + eps)
+        above_b = seat(slot) + 0.5 * pitch
+        below_b = seat(slot - 1) + 0.5 * pitch
+        up = long_run & (above_b - centre <= pitch / 3.0 + eps)
+        down = long_run & ~up & (centre - below_b <= pitch / 3.0 + eps)
+        landings.append((slot, np.full((m, R), CROSS), ok & (up | down)))
+        landings.append((np.where(up, slot + 1, slot - 1), np.full((m, R), CROSS),
+                         ok & (up | down)))
+        single = ok & ~any_crossed & ~up & ~down
+        offset = bottom - seat(slot)
+        state = np.where(length > high + eps, DOUBLE,
+                         np.where(length < low - eps, THIN,
+                                  np.where((offset > above + eps) | (-offset > below + eps),
+                                           POSITION_ERROR, PRESENT)))
+        landings.append((slot, state, single))
+    else:
+        cross = length > limit + eps
+        middle = 0.5 * (bottom + top)
+        lower = np.floor((middle - first) / pitch).astype(np.int64) + 1
+        slot = nearest(bottom)
+        offset = bottom - seat(slot)
+        state = np.where((offset > above + eps) | (-offset > below + eps), POSITION_ERROR,
+                         np.where(length < low - eps, THIN,
+                                  np.where(length <= high + eps, PRESENT, DOUBLE)))
+        landings.append((np.where(cross, lower, slot), np.where(cross, CROSS, state), ok))
+        landings.append((lower + 1, np.full((m, R), CROSS), ok & cross))
+    rank = np.zeros(m * (S + 2), dtype=np.int64)
+    first_run = np.full(m * (S + 2), R, dtype=np.int64)
+    rows = np.broadcast_to(np.arange(m)[:, None], (m, R))
+    index = np.broadcast_to(np.arange(R)[None, :], (m, R))
+    ranks = np.array(_RANK)
+    flat_landings = []
+    for slot, state, valid in landings:
+        v = valid & (slot >= 1) & (slot <= S)
+        cell = (rows * (S + 2) + np.where(v, slot, 0))[v]
+        np.maximum.at(rank, cell, ranks[np.asarray(state)[v]])
+        np.minimum.at(first_run, cell, index[v])
+        flat_landings.append((cell, np.asarray(state)[v], index[v]))
+    # A second run in a slot (not a cross-slotted one) is not a normally inserted wafer.
+    for cell, state, idx in flat_landings:
+        late = (state != CROSS) & (idx > first_run[cell])
+        np.maximum.at(rank, cell[late], _RANK[POSITION_ERROR])
+    rank = rank.reshape(m, S + 2)[:, 1:S + 1]
+    first_run = first_run.reshape(m, S + 2)[:, 1:S + 1]
+    return np.array(_BY_RANK)[rank], first_run
+
+
+# --- a block, start to finish ----------------------------------------------------------------
+
+def sweep_block(base, tolerances, seed, block, count, scalar=False):
+    """Draw, scan and map block ``block`` (``count`` layouts). Returns a dict of arrays:
+    ``truth``, ``reported`` (m, S codes), ``thickness``, ``bottom`` (m, S, nan without a run).
+    ``scalar``: through the scalar path (the oracle)."""
+    draws = draw_block(base, tolerances, seed, block, count)
+    peaks = []
+    if scalar or needs_scalar_path(base.layout):
+        states, thickness, bottom = scalar_block(base, draws, peaks)
+    else:
+        states, thickness, bottom = scan_block(base, draws)
+    # The weakest signal a wafer gave: a beam spot's smallest peak blocked fraction over the
+    # groups of wafers it saw; the ideal beam blocks all or nothing (1).
+    weakest = min(peaks) if peaks else 1.0
+    return {"truth": draws.truth, "reported": states, "thickness": thickness, "bottom": bottom,
+            "weakest_peak": weakest}
+
+
+def block_tally(base, result):
+    """What a block adds to a sweep's summary: the confusion counts (8 x 8: truth x reported),
+    and the measured thickness and offset from the seat of the slots by their true state."""
+    import numpy as np
+
+    truth = result["truth"].astype(np.int64)
+    reported = result["reported"].astype(np.int64)
+    confusion = np.zeros((8, 8), dtype=np.int64)
+    np.add.at(confusion, (truth.ravel(), reported.ravel()), 1)
+    plan = base.plan
+    seats = np.array([plan.seat_z(s) for s in range(1, plan.slot_count + 1)])
+    thickness = result["thickness"]
+    if plan.thickness_correction != 1.0:
+        thickness = thickness / plan.thickness_correction
+    offset = result["bottom"] - seats[None, :]
+    measured = {}
+    # A slot's own run: not a cross-slotted run from a neighbour, not half a pitch off its seat.
+    own = ~np.isnan(thickness) & (reported != CROSS) & (reported != UNSCANNED) & \
+        (np.abs(offset) < 0.5 * plan.pitch)
+    for code in (PRESENT, THIN, DOUBLE, POSITION_ERROR):
+        sel = (truth == code) & own
+        measured[STATE_KEYS[code]] = (thickness[sel], offset[sel])
+    return {"confusion": confusion, "measured": measured,
+            "weakest_peak": result.get("weakest_peak", 1.0)}
+
+
+def combine_tallies(tallies):
+    """The tallies of blocks (in block order) as one: counts added, measures concatenated in
+    block order, so the result does not depend on how the blocks were grouped."""
+    import numpy as np
+
+    confusion = sum(t["confusion"] for t in tallies)
+    weakest = min(t.get("weakest_peak", 1.0) for t in tallies)
+    measured = {}
+    for key in tallies[0]["measured"]:
+        measured[key] = (np.concatenate([t["measured"][key][0] for t in tallies]),
+                         np.concatenate([t["measured"][key][1] for t in tallies]))
+    return {"confusion": confusion, "measured": measured, "weakest_peak": weakest}
+
+
+def partition_tally(base, tolerances, seed, n, blocks):
+    """The tallies of the given blocks (a partition) of an N-layout sweep, combined."""
+    sizes = block_sizes(n)
+    return combine_tallies([block_tally(base, sweep_block(base, tolerances, seed, b, sizes[b]))
+                            for b in blocks])
+
+
+def partitions(n, count):
+    """The blocks of an N-layout sweep split into ``count`` contiguous partitions (fewer when
+    there are fewer blocks)."""
+    blocks = list(range(block_count(n)))
+    count = max(1, min(count, len(blocks)))
+    size, extra = divmod(len(blocks), count)
+    out, start = [], 0
+    for i in range(count):
+        end = start + size + (1 if i < extra else 0)
+        out.append(blocks[start:end])
+        start = end
+    return out
+
+
+# --- statistics ------------------------------------------------------------------------------
+
+Z95 = 1.959963984540054
+
+
+def wilson(k, n, z=Z95):
+    """The Wilson score interval (low, high) of a proportion k/n at ~95 %; (None, None) when
+    n = 0."""
+    if n == 0:
+        return (None, None)
+    p = k / n
+    denom = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4 * n * n)) / denom
+    # At k = 0 (k = n) the low (high) end is 0 (1) exactly, not a rounding residue of it.
+    return (0.0 if k == 0 else max(0.0, centre - half), 1.0 if k == n else min(1.0, centre + half))
+
+
+PERCENTILES = (1, 5, 50, 95, 99)
+
+
+def _distribution(values):
+    import numpy as np
+
+    if len(values) == 0:
+        return None
+    out = {"count": int(len(values)), "min": float(np.min(values))}
+    # One call for every percentile: one partial sort of the values, not one each.
+    for p, v in zip(PERCENTILES, np.percentile(values, PERCENTILES)):
+        out[f"p{p}"] = float(v)
+    out["max"] = float(np.max(values))
+    return out
+
+
+def summarise(base, tolerances, n, seed, tally):
+    """The sweep's summary (the dict written as summary.json)."""
+    import numpy as np
+
+    from .scenario import MISPLACED_RISE, THIN_FACTOR
+
+    plan = base.plan
+    conf = tally["confusion"]
+    names = STATE_KEYS
+    confusion = {names[i]: {names[j]: int(conf[i, j]) for j in range(8)} for i in range(8)
+                 if conf[i].sum() > 0}
+    total = int(conf.sum())
+    rates = {}
+    for i, name in enumerate(names):
+        true_n = int(conf[i].sum())
+        reported_n = int(conf[:, i].sum())
+        hits = int(conf[i, i])
+        if true_n == 0 and reported_n == 0:
+            continue
+        missed = true_n - hits
+        false_calls = reported_n - hits
+        others = total - true_n
+        rates[name] = {
+            "true": true_n, "reported": reported_n, "correct": hits,
+            "miss_rate": missed / true_n if true_n else None,
+            "miss_rate_95": list(wilson(missed, true_n)),
+            "false_call_rate": false_calls / others if others else None,
+            "false_call_rate_95": list(wilson(false_calls, others)),
+        }
+    low, high = plan.thickness_window()
+    below, above = plan.position_window()
+    th, off = tally["measured"]["present"]
+    margins = {key: _distribution(values) for key, values in margin_values(plan, tally).items()}
+    # Safer thresholds: each limit halfway between the present wafers' extreme and the nearest
+    # reading of the state on the other side (or, with none drawn, that state's nominal reading:
+    # a thin wafer THIN_FACTOR t, a double 2 t, a misplaced wafer MISPLACED_RISE off its seat).
+    t = plan.wafer_thickness
+    thin_th = tally["measured"]["thin"][0]
+    double_th = tally["measured"]["double"][0]
+    mis_off = np.abs(tally["measured"]["position_error"][1])
+    suggested = None
+    if len(th):
+        lo_ref = float(thin_th.max()) if len(thin_th) else THIN_FACTOR * t
+        hi_ref = float(double_th.min()) if len(double_th) else 2.0 * t
+        pos_ref = float(mis_off.min()) if len(mis_off) else MISPLACED_RISE
+        t_min = 0.5 * (float(th.min()) + lo_ref)
+        t_max = 0.5 * (float(th.max()) + hi_ref)
+        worst_below = float(max(0.0, -off.min()))
+        worst_above = float(max(0.0, off.max()))
+        suggested = {
+            "thickness_min": t_min, "thickness_max": t_max,
+            "position_below": 0.5 * (worst_below + pos_ref),
+            "position_above": 0.5 * (worst_above + pos_ref),
+            # Halfway between an empty slot's blocked fraction (0) and the weakest peak a wafer
+            # gave: the largest margin to both. The ideal beam blocks all or nothing: 0.5.
+            "threshold_on": 0.5 * tally.get("weakest_peak", 1.0),
+            "weakest_peak": tally.get("weakest_peak", 1.0),
+            "worst_thickness_margin": min(float(th.min()) - t_min, t_max - float(th.max())),
+        }
+    layout = base.layout
+    return {
+        "n": int(n), "seed": int(seed), "slots": int(plan.slot_count),
+        "slot_count_total": total,
+        "rules": plan.rules,
+        "recipe": {"thickness_min": low, "thickness_max": high, "position_below": below,
+                   "position_above": above, "double_threshold": plan.double_limit(),
+                   "protrusion_limit": plan.protrusion_limit,
+                   "threshold_on": (layout.amplifier.threshold_on if layout.amplifier
+                                    else 0.5)},
+        "tolerances": {name: {"dist": d.kind, "a": d.a, "b": d.b}
+                       for name, d in tolerances.quantities.items()},
+        "states": ({STATE_KEYS[PLACED[state]]: p for state, p in tolerances.states}
+                   if tolerances.states else "INPUT's load"),
+        "confusion": confusion,
+        "rates": rates,
+        "margins": margins,
+        "suggested": suggested,
+    }
+
+
+def margin_values(plan, tally):
+    """The thickness and position margins (mm, > 0 inside the recipe's windows) of every truly
+    present wafer the scan saw: {"thickness": array, "position": array}."""
+    import numpy as np
+
+    low, high = plan.thickness_window()
+    below, above = plan.position_window()
+    th, off = tally["measured"]["present"]
+    return {"thickness": np.minimum(th - low, high - th),
+            "position": np.minimum(off + below, above - off)}
+
+
+def sweep_tally(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
+                map_partitions=None, progress=None):
+    """Run the sweep and return (base, tally): ``run_sweep`` before its summary."""
+    if n < 1:
+        raise ValueError(f"a sweep needs at least one layout, got n = {n}")
+    base = sweep_base(layout, plan, rules)
+    parts = partitions(n, partition_count)
+    args = [(base, tolerances, seed, n, blocks) for blocks in parts]
+    if map_partitions is None:
+        tallies = []
+        for i, a in enumerate(args):
+            tallies.append(partition_tally(*a))
+            if progress:
+                progress(i + 1, len(args))
+    else:
+        tallies = map_partitions(partition_tally, args, progress)
+    return base, combine_tallies(tallies)
+
+
+def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
+              map_partitions=None, progress=None):
+    """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.tolerances.Tolerances) and
+    return the summary dict (summary.json's content). ``plan`` / ``rules``: the recipe
+    (default: the layout's own). The blocks are grouped into ``partition_count`` partitions;
+    ``map_partitions(function, args_list, progress)`` runs them (default: here, one after
+    another; the Dask runner passes its own); ``progress(done, total)`` after each. The result
+    depends only on the layout, the tolerances, N and the seed. From a script:
+
+        layout = read_scenario("resources/examples/paper.toml")
+        summary = run_sweep(layout, read_tolerances("fab_tolerances.toml"), 10_000, seed=1)
+    """
+    base, tally = sweep_tally(layout, tolerances, n, seed, plan, rules, partition_count,
+                              map_partitions, progress)
+    return summarise(base, tolerances, n, seed, tally)

@@ -1,0 +1,347 @@
+"""``waferscan sweep``: a Monte Carlo tolerance study (SPEC §12) run on Dask, and its outputs.
+
+The numbers come from core/sweep.py (numpy only); this module loads the INPUT, runs the
+partitions on a Dask cluster (a ``distributed.LocalCluster`` on this machine's cores by
+default, or an existing scheduler), shows a progress line, and writes summary.json, the CSV
+tables and the PNG plots, each atomically.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from .core import sweep
+from .core.errors import InputError
+from .core.mcs import atomic_write_text
+from .core.tolerances import read_tolerances
+
+# Partitions per worker: enough for the progress line to move and the load to even out; the
+# results do not depend on it (core/sweep.py).
+PARTITIONS_PER_WORKER = 4
+# How long (s) to wait for an existing scheduler before calling its address bad input.
+CONNECT_TIMEOUT = 10.0
+PROGRESS_PREFIX = "sweep:"
+
+
+def load_layout(path):
+    """The INPUT as a core Layout: a scenario .toml read directly (no FreeCAD), a layout
+    .FCStd through FreeCAD's document."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".toml":
+        from .core.scenario import read_scenario
+
+        return read_scenario(path)
+    if suffix != ".fcstd":
+        raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
+    from .cad.layout_files import opened_layout
+    from .cad.reader import read_layout
+
+    with opened_layout(path) as doc:
+        return read_layout(doc)
+
+
+class ProgressLine:
+    """``sweep: 3/8 partitions (37.5 %), 1,500 of 4,000 layouts`` on stderr: rewritten in place
+    on a terminal, one line per update otherwise (the GUI reads these lines)."""
+
+    def __init__(self, n, stream=None):
+        self.n = n
+        self.stream = stream or sys.stderr
+        self.tty = self.stream.isatty()
+        self.shown = False
+
+    def __call__(self, done, total, layouts=None):
+        text = (f"{PROGRESS_PREFIX} {done}/{total} partitions ({100.0 * done / total:.1f} %)"
+                + (f", {layouts:,} of {self.n:,} layouts" if layouts is not None else ""))
+        self.stream.write(("\r" + text) if self.tty else (text + "\n"))
+        self.stream.flush()
+        self.shown = True
+
+    def close(self):
+        if self.shown and self.tty:
+            self.stream.write("\n")
+
+
+def local_cluster(workers):
+    """A ``distributed.LocalCluster`` of ``workers`` single-threaded worker processes on this
+    machine, quiet: the scheduler's and nannies' INFO lines (on closing too) are not the
+    user's business. Its HTTP server (health, and a dashboard where bokeh is installed) takes a
+    free port: another cluster on the machine may hold 8787."""
+    import logging
+
+    from distributed import LocalCluster
+
+    for name in ("distributed", "distributed.scheduler", "distributed.nanny",
+                 "distributed.core", "distributed.worker"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    _python_for_workers()
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                        dashboard_address=":0", silence_logs=logging.ERROR)
+
+
+def _python_for_workers():
+    """Inside ``freecadcmd`` (FreeCAD 0.20 quirk: ``sys.executable`` is freecadcmd itself)
+    multiprocessing would start the workers as freecadcmd, which takes their arguments for its
+    own options and exits. They are started with the venv's Python (same version) instead."""
+    import multiprocessing
+
+    if Path(sys.executable).name.startswith("python"):
+        return
+    from .addon import venv_dir
+
+    python = Path(venv_dir()) / "bin" / "python"
+    if not python.exists():
+        raise InputError(sys.executable, None, "Dask workers need a Python: run the sweep with "
+                                               "the venv's waferscan, or use --workers 0")
+    multiprocessing.set_executable(str(python))
+
+
+def _dask_mapper(client, sizes_of):
+    """A ``map_partitions`` for core.sweep.run_sweep that submits each partition as a Dask
+    future and reports progress as they finish; results come back in partition order."""
+
+    def run(function, args, progress):
+        from distributed import as_completed
+
+        futures = client.map(function, *zip(*args), pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        results = [None] * len(futures)
+        done = layouts = 0
+        for future in as_completed(futures):
+            i = index[future.key]
+            results[i] = future.result()
+            done += 1
+            layouts += sizes_of(i)
+            if progress:
+                progress(done, len(futures), layouts)
+        return results
+
+    return run
+
+
+def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
+              partition_count=None, rules=None, progress=None):
+    """Load, sweep and summarise; returns (summary dict, margin arrays). ``workers``: the local cluster's
+    worker processes (default: this machine's cores; 0: no Dask, in this process);
+    ``scheduler``: the address of an existing Dask scheduler instead."""
+    layout = load_layout(input_path)
+    tolerances = read_tolerances(tolerance_path)
+    try:
+        layout.scanned_carrier
+    except ValueError as exc:
+        raise InputError(input_path, None, str(exc)) from None
+    if "beam_tilt" in tolerances.quantities and layout.beam.direction[:2] == (0.0, 0.0):
+        raise InputError(tolerance_path, None, "[beam_tilt]: the INPUT's beam runs vertically")
+    if workers == 0 and scheduler is None:
+        count = partition_count or 1
+        return _sweep(layout, tolerances, n, seed, rules, count, None, progress)
+    from distributed import Client
+
+    cluster = None
+    if scheduler is None:
+        workers = workers or os.cpu_count() or 1
+        cluster = local_cluster(workers)
+        client = Client(cluster)
+    else:
+        try:
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError("--scheduler", None,
+                             f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+        workers = max(1, len(client.scheduler_info().get("workers", {})))
+    try:
+        count = partition_count or workers * PARTITIONS_PER_WORKER
+        return _sweep(layout, tolerances, n, seed, rules, count, client, progress)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _sweep(layout, tolerances, n, seed, rules, count, client, progress):
+    parts = sweep.partitions(n, count)
+    sizes = sweep.block_sizes(n)
+
+    def sizes_of(i):
+        return sum(sizes[b] for b in parts[i])
+
+    mapper = None if client is None else _dask_mapper(client, sizes_of)
+
+    def local_progress(done, total, layouts=None):
+        if progress:
+            progress(done, total, layouts if layouts is not None else
+                     sum(sizes_of(i) for i in range(done)))
+
+    try:
+        base, tally = sweep.sweep_tally(layout, tolerances, n, seed, rules=rules,
+                                        partition_count=count, map_partitions=mapper,
+                                        progress=local_progress)
+    except ValueError as exc:
+        raise InputError(tolerances.source, None, str(exc)) from None
+    return sweep.summarise(base, tolerances, n, seed, tally), sweep.margin_values(base.plan,
+                                                                                  tally)
+
+
+# --- outputs ---------------------------------------------------------------------------------
+
+def _csv(rows):
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerows(rows)
+    return buffer.getvalue()
+
+
+def confusion_rows(summary):
+    """The confusion matrix as CSV rows: true state down, reported state across."""
+    names = sweep.STATE_KEYS
+    rows = [["true \\ reported", *names]]
+    for true, counts in summary["confusion"].items():
+        rows.append([true, *[counts.get(r, 0) for r in names]])
+    return rows
+
+
+def rate_rows(summary):
+    rows = [["state", "true", "reported", "correct", "miss_rate", "miss_low95", "miss_high95",
+             "false_call_rate", "false_call_low95", "false_call_high95"]]
+    for state, r in summary["rates"].items():
+        rows.append([state, r["true"], r["reported"], r["correct"], r["miss_rate"],
+                     *r["miss_rate_95"], r["false_call_rate"], *r["false_call_rate_95"]])
+    return [[("" if v is None else v) for v in row] for row in rows]
+
+
+def margin_rows(summary):
+    keys = ["count", "min", *[f"p{p}" for p in sweep.PERCENTILES], "max"]
+    rows = [["margin", *keys]]
+    for name, dist in summary["margins"].items():
+        rows.append([name, *(["" for _ in keys] if dist is None else [dist[k] for k in keys])])
+    return rows
+
+
+def _atomic_png(figure, path):
+    """Save a matplotlib figure to ``path`` atomically (a temporary file, then a rename)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".png", dir=path.parent)
+    os.close(fd)
+    try:
+        figure.savefig(tmp, dpi=100)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def write_outputs(summary, folder, measured=None):
+    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png in
+    ``folder`` (made if needed); returns the paths written."""
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(folder, None, f"cannot make the folder: {exc.strerror}") from None
+    written = []
+    files = {
+        "summary.json": json.dumps(summary, indent=2) + "\n",
+        "confusion.csv": _csv(confusion_rows(summary)),
+        "rates.csv": _csv(rate_rows(summary)),
+        "margins.csv": _csv(margin_rows(summary)),
+    }
+    try:
+        for name, text in files.items():
+            atomic_write_text(folder / name, text)
+            written.append(folder / name)
+        written += plot_summary(summary, folder, measured)
+    except OSError as exc:
+        raise InputError(folder, None, f"cannot write: {exc.strerror}") from None
+    return written
+
+
+def plot_summary(summary, folder, measured=None):
+    """confusion.png (counts, true state down, reported across) and margins.png (histograms of
+    the thickness and position margins of the truly present wafers, when ``measured`` gives
+    them; else their percentiles)."""
+    import warnings
+
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    with warnings.catch_warnings():
+        # Debian's mpl_toolkits beside PyPI's matplotlib: only 3D plots suffer, none here.
+        warnings.simplefilter("ignore", UserWarning)
+        import matplotlib.pyplot as plt
+
+    names = sweep.STATE_KEYS
+    true_names = list(summary["confusion"])
+    matrix = np.array([[summary["confusion"][t].get(r, 0) for r in names] for t in true_names])
+    fig, ax = plt.subplots(figsize=(9, 5))
+    ax.imshow(np.log10(matrix + 1), cmap="Blues")
+    ax.set_xticks(range(len(names)), names, rotation=35, ha="right")
+    ax.set_yticks(range(len(true_names)), true_names)
+    ax.set_xlabel("reported state")
+    ax.set_ylabel("true state")
+    for i in range(len(true_names)):
+        for j in range(len(names)):
+            if matrix[i, j]:
+                ax.text(j, i, f"{matrix[i, j]:,}", ha="center", va="center", fontsize=8)
+    ax.set_title(f"Confusion of {summary['n']:,} layouts (seed {summary['seed']})")
+    fig.tight_layout()
+    out = [folder / "confusion.png"]
+    _atomic_png(fig, out[0])
+    plt.close(fig)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for ax, key in zip(axes, ("thickness", "position")):
+        values = None if measured is None else measured.get(key)
+        dist = summary["margins"].get(key)
+        if values is not None and len(values):
+            ax.hist(values, bins=60, color="tab:blue")
+        elif dist:
+            keys = ["min", *[f"p{p}" for p in sweep.PERCENTILES], "max"]
+            ax.plot([dist[k] for k in keys], range(len(keys)), "o-")
+            ax.set_yticks(range(len(keys)), keys)
+        ax.axvline(0.0, color="tab:red", lw=1)
+        ax.set_xlabel(f"{key} margin to the recipe's window (mm)")
+        ax.set_title(f"{key}: worst {dist['min']:.4f} mm" if dist else f"{key}: no present wafer")
+    fig.tight_layout()
+    out.append(folder / "margins.png")
+    _atomic_png(fig, out[1])
+    plt.close(fig)
+    return out
+
+
+def format_summary(summary):
+    """A short text report: the confusion matrix, the rates and the margins."""
+    names = sweep.STATE_KEYS
+    lines = [f"{summary['n']:,} layouts, seed {summary['seed']}, rules {summary['rules']}",
+             "", "confusion (true down, reported across):",
+             "  " + f"{'true':>14} " + " ".join(f"{n[:10]:>10}" for n in names)]
+    for true, counts in summary["confusion"].items():
+        lines.append("  " + f"{true:>14} " + " ".join(f"{counts.get(r, 0):>10,}"
+                                                      for r in names))
+    lines += ["", "per state: miss rate [95 %], false-call rate [95 %]"]
+    for state, r in summary["rates"].items():
+        def pct(v, ci):
+            if v is None:
+                return "      -"
+            return f"{100 * v:6.2f} % [{100 * ci[0]:.2f}, {100 * ci[1]:.2f}]"
+        lines.append(f"  {state:>14}: miss {pct(r['miss_rate'], r['miss_rate_95'])}, "
+                     f"false call {pct(r['false_call_rate'], r['false_call_rate_95'])}")
+    for key, dist in summary["margins"].items():
+        if dist:
+            lines.append(f"{key} margin (mm): min {dist['min']:.4f}, p1 {dist['p1']:.4f}, "
+                         f"median {dist['p50']:.4f}")
+    if summary.get("suggested"):
+        s = summary["suggested"]
+        lines.append(f"safer windows: thickness {s['thickness_min']:.4f} to "
+                     f"{s['thickness_max']:.4f} mm, position -{s['position_below']:.4f} / "
+                     f"+{s['position_above']:.4f} mm, threshold_on {s['threshold_on']:g}")
+    return "\n".join(lines)
