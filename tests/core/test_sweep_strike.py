@@ -218,3 +218,52 @@ def test_json_gives_each_slot_its_strike_ranges_or_null():
     assert by_slot[13] is None  # an empty pocket
     loaded = {p.slot for p in EXAMPLE_RESULT.pockets if p.sweep is not None}
     assert {s for s, v in by_slot.items() if v is not None} == loaded
+
+
+def test_every_channel_says_it_json_results_txt_and_stderr(tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "results.txt"
+    run = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(EXAMPLE), "--json",
+                          "--out", str(out)], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[2])
+    assert run.returncode == 0, run.stderr
+    expected = [w for w in EXAMPLE_RESULT.warnings if "a tine" in w]
+    assert len(expected) == 3
+    assert [w for w in json.loads(run.stdout)["warnings"] if "a tine" in w] == expected
+    assert [line for line in run.stderr.splitlines() if "a tine" in line] == [
+        f"waferscan: warning: {w}" for w in expected]
+    text = out.read_text(encoding="utf-8")
+    assert [line for line in text.splitlines() if "a tine" in line] == [
+        f"warning = {w}" for w in expected]
+
+
+@pytest.mark.parametrize("slot, center", [(1, (0.0, 0.0)), (3, (3.0, 0.0)), (8, (0.0, -5.0))])
+def test_the_plan_draws_each_tines_path_inside_the_wafer(slot, center):
+    from waferscan.core import pocket_plan as plans
+
+    plan = plans.pocket_plan(EXAMPLE_RESULT, slot)
+    probe = next(p for p in EXAMPLE_RESULT.pockets if p.slot == slot)
+    # slow_jab.toml from above, the carrier's centre at the origin: the wrist 260 mm behind the
+    # deepest beam (v = 240 + 26.6 - 400); each tine sqrt(80² + 260²) mm from it.
+    wrist = (0.0, 240.0 + 26.6 - 400.0 - 260.0)
+    assert [a.tine for a in plan.strikes] == ["emitter", "receiver"]
+    assert [a.angles for a in plan.strikes] == list(probe.strike)
+    for arc in plan.strikes:
+        assert all(math.dist(p, wrist) == pytest.approx(math.hypot(80.0, 260.0), abs=1e-9)
+                   for p in arc.points)
+        assert all(math.dist(p, center) <= 150.0 + 1e-6 for p in arc.points)
+        # It starts and ends on the rim, where the tine enters and leaves the wafer.
+        assert math.dist(arc.points[0], center) == pytest.approx(150.0, abs=1e-6)
+        assert math.dist(arc.points[-1], center) == pytest.approx(150.0, abs=1e-6)
+        steps = [math.dist(a, b) for a, b in zip(arc.points, arc.points[1:])]
+        assert max(steps) <= math.radians(plans.STRIKE_ARC_STEP_DEG) * 272.03
+    assert plan.strikes[0].label == (f"emitter tine in the wafer {probe.strike[0][0]:+.3f}° to "
+                                     f"{probe.strike[0][1]:+.3f}°")
+
+
+def test_a_pocket_without_a_wafer_draws_no_strike():
+    from waferscan.core import pocket_plan as plans
+
+    assert plans.pocket_plan(EXAMPLE_RESULT, 13).strikes == ()

@@ -359,17 +359,41 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
             if inside(0.5 * (a + b)):
                 spans.append((a, b))
         return _merged(spans)
+    import numpy as np
+
     count = max(3, int(math.ceil(2.0 * amplitude / SWEEP_GRID_DEG)) + 1)
-    grid = [-amplitude + 2.0 * amplitude * i / (count - 1) for i in range(count)]
-    states = [inside(a) for a in grid]
-    spans, start = [], None
-    for i, (a, now) in enumerate(zip(grid, states)):
-        if now and start is None:
-            start = a if i == 0 else _bisect_state(inside, grid[i - 1], a)
-        if start is not None and (not now or i == count - 1):
-            spans.append((start, a if now else _bisect_state(inside, a, grid[i - 1])))
-            start = None
+    grid = np.linspace(-amplitude, amplitude, count)
+    states = (_tine_grid(px, py, pz, beam.direction, wafer, wx, wy, grid, tol)
+              if not wafer.bow else np.array([inside(float(a)) for a in grid], dtype=bool))
+    # Grid indices where the state changes, each bisected with the exact test.
+    edges = [-1] + [int(i) for i in np.flatnonzero(states[1:] != states[:-1])] + [count - 1]
+    spans = []
+    for i, j in zip(edges, edges[1:]):
+        if not states[j]:
+            continue  # a clear stretch
+        low = -amplitude if i < 0 else _bisect_state(inside, float(grid[i]), float(grid[i + 1]))
+        high = (amplitude if j == count - 1
+                else _bisect_state(inside, float(grid[j + 1]), float(grid[j])))
+        spans.append((low, high))
     return spans
+
+
+def _tine_grid(px, py, pz, direction, wafer, wx, wy, grid, tol):
+    """The tine at (px, py, pz) inside the flat wafer at each wrist angle of ``grid``: the
+    engines' array test, the wafer turned the other way about the wrist (as _bisected_span)."""
+    import numpy as np
+
+    from .geometry import beam_hits_wafers
+
+    a = np.radians(-grid)
+    c, s = np.cos(a), np.sin(a)
+    dx, dy = wafer.center[0] - wx, wafer.center[1] - wy
+    nx, ny, nz = wafer.normal
+    hits = beam_hits_wafers(px, py, pz, Beam((px, py, pz), direction, 0.0),
+                            wx + c * dx - s * dy, wy + s * dx + c * dy, wafer.center[2],
+                            c * nx - s * ny, s * nx + c * ny, nz, wafer.radius, wafer.thickness,
+                            tol)
+    return np.asarray(hits, dtype=bool)
 
 
 def _bisect_state(inside, clear, within):
@@ -405,14 +429,20 @@ def sweep_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANC
     to rounding (≤ 1e-9 deg, tested), others bisected to SWEEP_TOLERANCE_DEG on a grid of
     SWEEP_GRID_DEG (a strike narrower than that can be missed). ``exact=False`` forces the
     bracket-and-bisect path for every wafer (for tests)."""
+    by_tine = tine_strikes(layout, z, advance, amplitude, wafers, tol, exact)
+    return tuple(_merged(list(by_tine[0] + by_tine[1])))
+
+
+def tine_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE, exact=True):
+    """``sweep_strikes`` tine by tine: (the emitter's ranges, the receiver's ranges), each a
+    tuple of (low, high) degrees, for drawing each tine's path inside the wafer."""
     wafers = wafers_near(layout, z) if wafers is None else wafers
     emitter, beam = beam_at(layout, z, advance)
     wx, wy = wrist_axis(layout, z, advance)
-    spans = []
-    for wafer in wafers:
-        for end in (0, 1):
-            spans += _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact)
-    return tuple(_merged(spans))
+    return tuple(tuple(_merged([span for wafer in wafers
+                                for span in _tine_spans(emitter, beam, end, wafer, wx, wy,
+                                                        amplitude, tol, exact)]))
+                 for end in (0, 1))
 
 
 def strike_words(strike):
