@@ -16,6 +16,7 @@ BEAM_STYLES = {
     plans.SWEEP_FIRST: ("#1e50dc", "-", 1.8),
     plans.SWEEP_LAST: ("#00966e", "-", 1.8),
 }
+STRIKE = "#be006e"  # a tine's path inside the wafer during the sweep, as in the GUI
 
 
 def pocket_plans(result):
@@ -44,6 +45,9 @@ def draw_pockets(figure, spec, result, drawn):
             axis.add_patch(Circle(disc.center, disc.radius, fc=(r / 255, g / 255, b / 255, 0.45),
                                   ec=(r / 400, g / 400, b / 400), lw=0.8))
             drawn.append((plan.slot, "wafer", disc.name))
+        for arc in plan.strikes:  # where the sweep turned a tine into the wafer
+            axis.plot(*zip(*arc.points), "-", color=STRIKE, lw=2.4, solid_capstyle="butt")
+            drawn.append((plan.slot, "strike", arc.label))
         for beam in plan.beams:
             colour, style, width = BEAM_STYLES[beam.role]
             (u0, v0), (u1, v1) = beam.ends

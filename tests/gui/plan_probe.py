@@ -15,7 +15,7 @@ import FreeCADGui as Gui  # noqa: E402
 def begin():
     from waferscan.core.scan import scan_layout
     from waferscan.core.scenario import read_scenario
-    from waferscan.gui.plan_view import BEAM_STYLES
+    from waferscan.gui.plan_view import BEAM_STYLES, STRIKE
     from waferscan.gui.results_view import SlotCodeDialog
 
     Gui.activateWorkbench("WaferScanWorkbench")
@@ -25,6 +25,7 @@ def begin():
     dialog.show()
     view = dialog.plan_view
     result["beam_colours"] = {role: list(style[0]) for role, style in BEAM_STYLES.items()}
+    result["strike_colour"] = list(STRIKE)
     result["duration_label"] = dialog.duration_label.text()
     result["durations"] = scanned.durations
     result["tabs"] = [dialog.views.tabText(i) for i in range(dialog.views.count())]

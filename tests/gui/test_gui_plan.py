@@ -34,11 +34,21 @@ def _tine_on_rim(slot, angle, center):
     raise AssertionError(f"slot {slot}: no tine on the rim at {angle}")
 
 
+def _turned_tine(u, angle):
+    """The deepest beam's end at u (-80: the emitter's tine), turned about the wrist."""
+    a = math.radians(angle)
+    dx, dy = u - WRIST[0], DEEPEST_V - WRIST[1]
+    return (WRIST[0] + math.cos(a) * dx - math.sin(a) * dy,
+            WRIST[1] + math.sin(a) * dx + math.cos(a) * dy)
+
+
 def _points():
     points = {}
     for slot, center in ((8, (0.0, -5.0)), (3, (3.0, 0.0))):
         probe = next(p for p in RESULT.pockets if p.slot == slot)
         points[slot] = {
+            # Midway along the emitter's tine's path inside the wafer (its strike range).
+            "strike": _turned_tine(-80.0, 0.5 * sum(probe.strike[0])),
             "front": (center[0], center[1] - 150.0),  # the rim's front point
             "sweep first": _tine_on_rim(slot, probe.sweep[0], center),
             "sweep last": _tine_on_rim(slot, probe.sweep[1], center),
@@ -95,6 +105,16 @@ def test_the_contact_points_are_painted_where_the_hand_computation_puts_them(gui
     assert seen["rim back"]["rgb"] != WHITE
     assert seen["inside"]["rgb"] != WHITE and seen["inside"]["rgb"] != seen["rim back"]["rgb"]
     assert seen["outside"]["rgb"] == WHITE
+
+
+@pytest.mark.parametrize("slot", ["8", "3"])
+def test_the_tines_path_inside_the_wafer_is_marked(gui, slot):
+    probe = next(p for p in RESULT.pockets if p.slot == int(slot))
+    drawn = [tuple(d) for d in gui["slots"][slot]["drawn"]]
+    (low, high), (low2, high2) = probe.strike
+    assert ("strike", f"emitter tine in the wafer {low:+.3f}° to {high:+.3f}°") in drawn
+    assert ("strike", f"receiver tine in the wafer {low2:+.3f}° to {high2:+.3f}°") in drawn
+    assert _near(gui["slots"][slot]["points"]["strike"]["rgb"], gui["strike_colour"])
 
 
 def test_a_protrusion_is_drawn_at_its_size(gui):

@@ -56,6 +56,15 @@ def test_after_the_pockets_the_results_open_and_a_screenshot_of_a_jab_is_left(gu
     assert (ARTIFACTS / "gui-jab.png").stat().st_size > 10_000
 
 
+def test_the_panel_says_where_the_sweep_turns_a_tine_into_a_wafer(gui):
+    from waferscan.core.scan import scan_layout
+
+    lines = [w for w in scan_layout(LAYOUT).warnings if "a tine" in w]
+    assert len(lines) == 3  # the seated pockets together, slot 3 and slot 8
+    for line in lines:
+        assert f"Warning: {line}" in gui["panel_status"]
+
+
 def test_the_results_table_shows_front_and_sweep(gui):
     from waferscan.core.scan import scan_layout
 

@@ -47,12 +47,29 @@ class PlanDisc:
 
 
 @dataclass(frozen=True)
+class PlanArc:
+    """A tine's path during the sweep where it is inside a wafer (a real fork would strike it):
+    ``tine`` ("emitter" or "receiver" end of the beam), the wrist angles (low, high) in degrees,
+    ``points`` (u, v) in mm along the arc about the wrist, at most STRIKE_ARC_STEP_DEG apart,
+    and a label."""
+
+    tine: str
+    angles: tuple
+    points: tuple
+    label: str
+
+
+STRIKE_ARC_STEP_DEG = 0.25
+
+
+@dataclass(frozen=True)
 class PocketPlan:
     """One pocket's jab and sweep seen from above. ``seated``: where a wafer seated in the slot
     would be; ``wafers``: the wafers the beam can reach at the pocket's height; ``beams``: the
     beam at the start pose, at the jab's first contact and deepest point and at the sweep's
     first and last blocked angles (those that were made and met something); ``wrist``: (u, v)
-    of the wrist axis for the sweep, or None; ``title``: one line saying what was found."""
+    of the wrist axis for the sweep, or None; ``title``: one line saying what was found;
+    ``strikes``: the tines' paths inside a wafer during the sweep (PlanArc), if any."""
 
     slot: int
     z: float
@@ -61,6 +78,7 @@ class PocketPlan:
     beams: tuple
     wrist: tuple | None
     title: str
+    strikes: tuple = ()
 
     def beam(self, role):
         """The beam of that role, or None."""
@@ -154,7 +172,25 @@ def pocket_plan(result, slot):
         else:
             words.append("sweep met nothing")
     title = f"slot {slot} at Z {probe.z:.3f} mm: " + "; ".join(words)
-    return PocketPlan(slot, probe.z, seated_disc, discs, tuple(beams), wrist, title)
+    strikes = _strike_arcs(layout, probe, to_local) if probe.strike else ()
+    return PocketPlan(slot, probe.z, seated_disc, discs, tuple(beams), wrist, title, strikes)
+
+
+def _strike_arcs(layout, probe, to_local):
+    """Each tine's path inside a wafer during the sweep, as arcs in the plan (PlanArc)."""
+    arcs = []
+    by_tine = slow_scan.tine_strikes(layout, probe.z, probe.depth, layout.scan.sweep)
+    for end, (tine, spans) in enumerate(zip(("emitter", "receiver"), by_tine)):
+        for low, high in spans:
+            count = max(2, int(math.ceil((high - low) / STRIKE_ARC_STEP_DEG)) + 1)
+            points = []
+            for i in range(count):
+                angle = low + (high - low) * i / (count - 1)
+                x, y, _ = slow_scan.tine_points(layout, probe.z, probe.depth, angle)[end]
+                points.append(to_local(x, y))
+            arcs.append(PlanArc(tine, (low, high), tuple(points),
+                                f"{tine} tine in the wafer {low:+.3f}° to {high:+.3f}°"))
+    return tuple(arcs)
 
 
 def chosen_slots(result, most=4):

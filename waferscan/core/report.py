@@ -25,7 +25,8 @@ STATE_COLOURS = {0: (235, 235, 235), 1: (120, 200, 120), 2: (230, 90, 80), 3: (2
 def result_dict(result):
     """The JSON object of ``--json``: code, e87, slots, runs, wafers, params, engine, warnings.
     A slot's ``state`` is its code character's value: 0-6, or "?" when unscanned. SPEC §13:
-    a slot's ``front`` (mm) and ``sweep`` ([first, last] deg), null without a jab or sweep;
+    a slot's ``front`` (mm) and ``sweep`` ([first, last] deg), null without a jab or sweep,
+    and ``sweep_strike`` ([[from, to], …] deg where a tine was inside a wafer, or null);
     ``durations``: simulated seconds of a fast and a slow scan."""
     data = _result_dict(result)
     pockets = {p.slot: p for p in result.pockets}
@@ -33,6 +34,9 @@ def result_dict(result):
         probe = pockets.get(slot["slot"])
         slot["front"] = None if probe is None else probe.front
         slot["sweep"] = None if probe is None or probe.sweep is None else list(probe.sweep)
+        # The wrist-angle ranges over which a tine was inside a wafer (a real fork strikes it).
+        slot["sweep_strike"] = ([list(span) for span in probe.strike]
+                                if probe is not None and probe.strike else None)
     data["durations"] = result.durations
     return data
 

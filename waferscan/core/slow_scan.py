@@ -304,6 +304,164 @@ def _bisected_span(emitter, beam, wafer, wx, wy, amplitude, tol):
     return (first, last)
 
 
+# --- the tines during the sweep ----------------------------------------------------------------
+#
+# The fork's tines are the beam's two ends. Turning about a wrist behind the beam, a tine swings
+# on a circle about the wrist axis; where it lies inside a wafer's rim while at that wafer's
+# height, a real fork would strike the wafer. The sweep is still made and reported as SPEC §13
+# builds it; these ranges say where it could not be (SPEC §3, honest results). For the bundled
+# robot's 160 mm beam 260 mm in front of the wrist, the sweep's edges are exactly where a tine
+# leaves the rim, so every sweep that finds both edges has a strike range beside each.
+
+def tine_points(layout, z, advance, turn):
+    """The two tines (the beam's ends, (x, y, z) in mm) at scan position z, the fork advanced
+    ``advance`` mm and the wrist turned by ``turn`` degrees."""
+    emitter, beam = beam_at(layout, z, advance, turn)
+    return (emitter, tuple(o + beam.length * d for o, d in zip(emitter, beam.direction)))
+
+
+def _tine_inside(point, direction, wafer, tol):
+    """True when the point lies in the wafer's solid (grown by ``tol``): the engines' exact
+    per-ray test on a beam of length 0 at the point."""
+    return beam_hits_wafer(point, Beam(point, direction, 0.0), wafer, tol)
+
+
+def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
+    """The wrist-angle intervals in [-amplitude, +amplitude] degrees over which the beam's end
+    ``end`` (0: the emitter's, 1: the receiver's) is inside ``wafer``; a list of (low, high).
+
+    A level flat wafer is turned in its own plane, so the tine's height against the wafer does
+    not change and it crosses the rim where a cos φ + b sin φ = k (closed form, the sweep's own
+    end crossing); the state between consecutive crossings is tested exactly. Any other wafer
+    (tilted, bowed) is bracketed on a grid of at most SWEEP_GRID_DEG and each change bisected
+    with the exact test to SWEEP_TOLERANCE_DEG."""
+    lam = end * beam.length
+    px = emitter[0] + lam * beam.direction[0]
+    py = emitter[1] + lam * beam.direction[1]
+    pz = emitter[2] + lam * beam.direction[2]
+
+    def inside(turn):
+        x, y = _turn_xy(px, py, wx, wy, turn)
+        dx, dy = _turn_xy(beam.direction[0], beam.direction[1], 0.0, 0.0, turn)
+        return _tine_inside((x, y, pz), (dx, dy, beam.direction[2]), wafer, tol)
+
+    level = exact and wafer.normal[0] == 0.0 and wafer.normal[1] == 0.0 and not wafer.bow
+    if level:
+        ux, uy = px - wx, py - wy
+        cx, cy = wafer.center[0] - wx, wafer.center[1] - wy
+        r = wafer.radius + tol
+        k = 0.5 * (ux * ux + uy * uy + cx * cx + cy * cy - r * r)
+        crossings = _solve_cos_sin(ux * cx + uy * cy, ux * cy - uy * cx, k)
+        points = sorted({-amplitude, amplitude} | {a for a in map(_wrap, crossings)
+                                                   if -amplitude < a < amplitude})
+        spans = []
+        for a, b in zip(points, points[1:]):
+            if inside(0.5 * (a + b)):
+                spans.append((a, b))
+        return _merged(spans)
+    import numpy as np
+
+    count = max(3, int(math.ceil(2.0 * amplitude / SWEEP_GRID_DEG)) + 1)
+    grid = np.linspace(-amplitude, amplitude, count)
+    states = (_tine_grid(px, py, pz, beam.direction, wafer, wx, wy, grid, tol)
+              if not wafer.bow else np.array([inside(float(a)) for a in grid], dtype=bool))
+    # Grid indices where the state changes, each bisected with the exact test.
+    edges = [-1] + [int(i) for i in np.flatnonzero(states[1:] != states[:-1])] + [count - 1]
+    spans = []
+    for i, j in zip(edges, edges[1:]):
+        if not states[j]:
+            continue  # a clear stretch
+        low = -amplitude if i < 0 else _bisect_state(inside, float(grid[i]), float(grid[i + 1]))
+        high = (amplitude if j == count - 1
+                else _bisect_state(inside, float(grid[j + 1]), float(grid[j])))
+        spans.append((low, high))
+    return spans
+
+
+def _tine_grid(px, py, pz, direction, wafer, wx, wy, grid, tol):
+    """The tine at (px, py, pz) inside the flat wafer at each wrist angle of ``grid``: the
+    engines' array test, the wafer turned the other way about the wrist (as _bisected_span)."""
+    import numpy as np
+
+    from .geometry import beam_hits_wafers
+
+    a = np.radians(-grid)
+    c, s = np.cos(a), np.sin(a)
+    dx, dy = wafer.center[0] - wx, wafer.center[1] - wy
+    nx, ny, nz = wafer.normal
+    hits = beam_hits_wafers(px, py, pz, Beam((px, py, pz), direction, 0.0),
+                            wx + c * dx - s * dy, wy + s * dx + c * dy, wafer.center[2],
+                            c * nx - s * ny, s * nx + c * ny, nz, wafer.radius, wafer.thickness,
+                            tol)
+    return np.asarray(hits, dtype=bool)
+
+
+def _bisect_state(inside, clear, within):
+    """The boundary between an angle where ``inside`` is False and one where it is True, to
+    SWEEP_TOLERANCE_DEG: the last angle found inside."""
+    while abs(within - clear) > SWEEP_TOLERANCE_DEG:
+        mid = 0.5 * (clear + within)
+        if mid in (clear, within):
+            break
+        if inside(mid):
+            within = mid
+        else:
+            clear = mid
+    return within
+
+
+def _merged(spans):
+    """Intervals (low, high) joined where they overlap or touch, in order."""
+    out = []
+    for low, high in sorted(spans):
+        if out and low <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], high))
+        else:
+            out.append((low, high))
+    return out
+
+
+def sweep_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE, exact=True):
+    """The wrist-angle ranges (degrees, a tuple of (low, high), in order) in [-amplitude,
+    +amplitude] over which a tine of the fork (an end of the beam at scan position z, the fork
+    advanced ``advance``) lies inside a wafer: within its rim while at a height within its
+    thickness, where a real fork would strike it. Empty when never. Level wafers are exact up
+    to rounding (≤ 1e-9 deg, tested), others bisected to SWEEP_TOLERANCE_DEG on a grid of
+    SWEEP_GRID_DEG (a strike narrower than that can be missed). ``exact=False`` forces the
+    bracket-and-bisect path for every wafer (for tests)."""
+    by_tine = tine_strikes(layout, z, advance, amplitude, wafers, tol, exact)
+    return tuple(_merged(list(by_tine[0] + by_tine[1])))
+
+
+def tine_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE, exact=True):
+    """``sweep_strikes`` tine by tine: (the emitter's ranges, the receiver's ranges), each a
+    tuple of (low, high) degrees, for drawing each tine's path inside the wafer."""
+    wafers = wafers_near(layout, z) if wafers is None else wafers
+    emitter, beam = beam_at(layout, z, advance)
+    wx, wy = wrist_axis(layout, z, advance)
+    return tuple(tuple(_merged([span for wafer in wafers
+                                for span in _tine_spans(emitter, beam, end, wafer, wx, wy,
+                                                        amplitude, tol, exact)]))
+                 for end in (0, 1))
+
+
+def strike_words(strike):
+    """The strike ranges as words: 'from -32.588 to -1.618 deg and from +1.618 to +32.588 deg'."""
+    return " and ".join(f"from {a:+.3f} to {b:+.3f} deg" for a, b in strike)
+
+
+def strike_warnings(probes):
+    """One warning line per set of pockets whose sweep turns a tine into a wafer over the same
+    ranges (to the printed 0.001°), naming the slots; none for pockets without a strike."""
+    grouped = {}
+    for p in probes:
+        if p.strike:
+            grouped.setdefault(strike_words(p.strike), []).append(p.slot)
+    return [f"slot{'s' if len(slots) > 1 else ''} {', '.join(map(str, slots))}: the sweep turns "
+            f"a tine (an end of the beam) into the wafer {words} (a real fork would strike "
+            f"it)" for words, slots in grouped.items()]
+
+
 # --- per pocket --------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -312,7 +470,9 @@ class PocketProbe:
     were made at; ``front``: advance at first block (mm) or None; ``depth``: the advance the sweep
     was made at; ``sweep``: (first, last) degrees or None; ``expected_front`` and
     ``expected_sweep``: the same for a wafer seated in this pocket; ``shift``: the sideways shift
-    (mm, along the carrier's left-to-right) the sweep's centre shows, or None."""
+    (mm, along the carrier's left-to-right) the sweep's centre shows, or None; ``strike``: the
+    wrist-angle ranges ((low, high) degrees) over which a tine was inside a wafer
+    (``sweep_strikes``), empty when none or no sweep."""
 
     slot: int
     z: float
@@ -322,6 +482,7 @@ class PocketProbe:
     expected_front: float | None = None
     expected_sweep: tuple | None = None
     shift: float | None = None
+    strike: tuple = ()
 
 
 def seated_wafer(carrier, slot):
@@ -362,7 +523,11 @@ def probe_pocket(layout, slot, z, measure=None):
         shift = _sideways_shift(layout, z, depth, carrier, slot,
                                 0.5 * (sweep[0] + sweep[1])
                                 - 0.5 * (expected_sweep[0] + expected_sweep[1]))
-    return PocketProbe(slot, z, front, depth, sweep, expected_front, expected_sweep, shift)
+    # Where the sweep turns a tine into a wafer (honest results, SPEC §3): the layout's own
+    # geometry, whichever way the sweep was measured (the document engine agrees with it).
+    strike = sweep_strikes(layout, z, depth, scan.sweep) if scan.sweep > 0.0 else ()
+    return PocketProbe(slot, z, front, depth, sweep, expected_front, expected_sweep, shift,
+                       strike)
 
 
 def _sideways_shift(layout, z, depth, carrier, slot, turned):
@@ -420,6 +585,7 @@ def judge(layout, plan, probes):
                     f"is {0.5 * (p.expected_sweep[0] + p.expected_sweep[1]):+.3f} deg: the wafer "
                     f"sits {abs(p.shift):.3f} mm to the {side}, beyond the position tolerance "
                     f"{plan.position_tolerance:g} mm: position error (5)")
+    warnings += strike_warnings(probes)
     if blind:
         warnings.append(f"the jab starts within the protrusion limit of a seated wafer's front "
                         f"edge (slot{'s' if len(blind) > 1 else ''} "

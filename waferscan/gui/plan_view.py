@@ -1,6 +1,7 @@
 """A slow scan's pocket seen from above (SPEC §13): the wafer's outline (and where a seated wafer
 would be), the beam at the start pose, at the jab's first contact and deepest point, and at the
-sweep's first and last blocked angles, with the points where it met the wafer. Drawn from
+sweep's first and last blocked angles, with the points where it met the wafer, and where the
+sweep turned a tine into the wafer. Drawn from
 ``core.pocket_plan`` only; a slot chooser picks the pocket."""
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ BEAM_STYLES = {
     plans.SWEEP_LAST: ((0, 150, 110), QtCore.Qt.SolidLine, 2.5),
 }
 SEATED = (150, 150, 150)   # a seated wafer's outline, dashed
+STRIKE = (190, 0, 110)     # a tine's path inside the wafer during the sweep (a fork strikes it)
 WRIST = (120, 60, 0)
 CONTACT_RADIUS_PX = 4.5
 MARGIN_PX = 18
@@ -37,7 +39,8 @@ class PlanCanvas(QtGui.QWidget):
         self.setToolTip("The pocket seen from above, the carrier's opening at the bottom: the "
                         "wafer (filled), a seated wafer (dashed), the beam at the start pose, at "
                         "the jab's first contact (red) and at the sweep's first (blue) and last "
-                        "(green) blocked angles; dots: where the beam met the wafer")
+                        "(green) blocked angles, a tine's path inside the wafer (crimson: a real "
+                        "fork would strike it); dots: where the beam met the wafer")
 
     def set_plan(self, plan, state):
         self.plan, self.state = plan, state
@@ -113,6 +116,11 @@ class PlanCanvas(QtGui.QWidget):
                 painter.drawLine(QtCore.QPointF(x - 5, y - 5), QtCore.QPointF(x + 5, y + 5))
                 painter.drawLine(QtCore.QPointF(x - 5, y + 5), QtCore.QPointF(x + 5, y - 5))
             self.drawn.append(("wrist", "inside" if inside else "below"))
+        # Where the sweep turns a tine into the wafer: its path there, under the beams.
+        painter.setPen(QtGui.QPen(QtGui.QColor(*STRIKE), 3.5))
+        for arc in plan.strikes:
+            painter.drawPolyline(QtGui.QPolygonF([point(p) for p in arc.points]))
+            self.drawn.append(("strike", arc.label))
         for beam in plan.beams:
             colour, style, width = BEAM_STYLES[beam.role]
             painter.setPen(QtGui.QPen(QtGui.QColor(*colour), width, style))
@@ -147,6 +155,8 @@ class PlanCanvas(QtGui.QWidget):
         legend = "dashed: start pose and a seated wafer · dotted: jab's deepest · red: front"
         if plan.wrist is not None:
             legend += " · blue/green: sweep's first/last"
+        if plan.strikes:
+            legend += " · crimson: a tine inside the wafer"
         painter.setPen(QtGui.QColor(80, 80, 80))
         painter.drawText(QtCore.QRectF(4, self.height() - 16, self.width() - 8, 14),
                          QtCore.Qt.AlignCenter, legend)

@@ -7,6 +7,7 @@ layout's wafers (the analytic answer the results give)."""
 
 from __future__ import annotations
 
+import html
 import math
 
 import FreeCAD as App
@@ -199,8 +200,12 @@ class PocketTaskPanel(ClosableTaskPanel):
             return
         self.stop_button.setEnabled(False)
         done = self.animation.k >= len(self.animation.frames)
-        self.status.setText(f"Done. Slot code <b>{self.animation.result.code}</b>" if done
-                            else "Stopped; the arm is back in its start pose")
+        # The scan's warnings as the Z steps' panel gives them (SPEC §3): among them a sweep
+        # that turns a tine into a wafer, and a pocket off position by its sweep.
+        warnings = "".join(f"<br><span style='color: #b05000'>Warning: {html.escape(w)}</span>"
+                           for w in self.animation.result.warnings)
+        self.status.setText(f"Done. Slot code <b>{self.animation.result.code}</b>{warnings}"
+                            if done else "Stopped; the arm is back in its start pose")
         if done and self.on_completed is not None:
             self.on_completed()
 
