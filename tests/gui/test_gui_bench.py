@@ -18,3 +18,5 @@ def test_the_gui_animation_measure_plays_the_scan_animation(tmp_path):
     result = bench.gui_animation(layout, seconds=0.5)
     assert result["ok"] and result["fault"] is None
     assert result["updates"] > 1 and result["max_stall"] > 0
+    # Frames shown are renders of the 3D view after a new update: never more than the updates.
+    assert 1 < result["frames"] <= result["updates"]
