@@ -847,6 +847,12 @@ def plot(report, target):
         ax.grid(True, which="both", alpha=0.3)
         if ax.lines:
             ax.legend(fontsize=8)
+            # At least two decades on the cost axis: a flat series drawn over its own narrow
+            # range (the idle link's 5.6-6.7 ms/s) would show its noise as a peak.
+            low, high = ax.get_ylim()
+            if high / low < 100.0:
+                middle = (low * high) ** 0.5
+                ax.set_ylim(middle / 10.0, middle * 10.0)
     figure.text(0.5, 0.01, "open markers: sampled over the whole travel and scaled by the "
                 "number of positions", ha="center", fontsize=8)
     figure.tight_layout(rect=(0, 0.03, 1, 1))
