@@ -113,8 +113,7 @@ def judge_run(plan, bottom, top):
             state = PRESENT
         else:
             state = DOUBLE
-        # One finding (the common case, once per run of every scan): kept or not, no loop.
-        return [(slot, state)] if 1 <= slot <= plan.slot_count else []
+        found = [(slot, state)]
     return [(slot, state) for slot, state in found if 1 <= slot <= plan.slot_count]
 
 
