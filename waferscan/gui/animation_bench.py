@@ -5,12 +5,13 @@ recompute, with its task panel: position, progress and the live signal trace), a
 stall. Writes a JSON result to $WAFERSCAN_BENCH_RESULT and quits.
 
 What counts is what the user sees: a **frame shown** is a render of the 3D view (counted by a
-callback node at the root of its scene graph) after at least one new placement update. The
-bench does not force a redraw at each update: FreeCAD's ``Gui.updateGui()`` there rendered the
-view 2.4 times an update (the forced render and the ones the event loop made anyway), a cost
-**Run scan** does not have; updates the event loop draws together would then be counted once,
-as frames shown. ``updates_per_second`` counts the placement updates, ``frames_per_second``
-the frames shown, ``max_stall`` the longest gap between two frames shown."""
+callback node at the root of its scene graph, which a paint may traverse more than once: only
+the first traversal after a new update counts) after at least one new placement update. The
+bench does not force a redraw at each update, as its first version did (``Gui.updateGui()``):
+Run scan forces none, and whether its updates get drawn is part of what is measured; updates
+the event loop draws together count once, as one frame shown. ``updates_per_second`` counts
+the placement updates, ``frames_per_second`` the frames shown, ``max_stall`` the longest gap
+between two frames shown."""
 
 import json
 import os
