@@ -161,6 +161,55 @@ def wafer_edges(layout, wafer, tol=TOUCH_TOLERANCE):
     return (z0 + span[0] * az, z0 + span[1] * az)
 
 
+def _level_edger(layout, tol=TOUCH_TOLERANCE):
+    """``wafer_edges(layout, wafer, tol)`` for a level scan (lift along Z, beam level) and a flat
+    level wafer (normal (0, 0, 1), no bow), as a function of the wafer: ``translation_range``'s
+    level case (``_level_wafer_range``, ``_rim_span``, ``_rim_roots`` with floats) written out
+    in one body, expression for expression, with the beam's values read once a scan. The same
+    numbers bit for bit (tests/core/test_fixed_cost.py), without the five calls per wafer that
+    were a third of an analytic scan of a fab's FOUP."""
+    ox, oy, oz = layout.beam.emitter
+    ex, ey, ez = layout.beam.direction
+    ax, ay, az = layout.lift_axis
+    length = layout.beam.length
+    sqrt, copysign, inf = math.sqrt, math.copysign, math.inf
+
+    def edges(wafer):
+        nx, ny, nz = wafer.normal
+        cx, cy, cz = wafer.center
+        wx, wy, wz = ox - cx, oy - cy, oz - cz
+        wn = wx * nx + wy * ny + wz * nz
+        en = ex * nx + ey * ny + ez * nz
+        an = ax * nx + ay * ny + az * nz
+        px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
+        qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
+        r = wafer.diameter / 2.0 + tol
+        r2 = r * r
+        # _level_wafer_range, and _rim_span in it
+        qq = qx * qx + qy * qy + qz * qz
+        pq = px * qx + py * qy + pz * qz
+        c = px * px + py * py + pz * pz - r2
+        if qq == 0.0:
+            if c > 0.0:
+                return None
+            low, high = -inf, inf
+        else:
+            disc = pq * pq - qq * c
+            if disc < 0.0:
+                return None
+            root = -pq - copysign(sqrt(disc), pq)  # _rim_roots
+            r1 = root / qq
+            r2 = c / root if root != 0.0 else 0.0
+            low, high = min(r1, r2), max(r1, r2)
+        if high < -tol or low > length + tol:
+            return None
+        t = wafer.thickness
+        low, high = (-tol - wn) / an, (t + tol - wn) / an
+        return (oz + min(low, high) * az, oz + max(low, high) * az)
+
+    return edges
+
+
 def geometric_edges(layout, wafer, touching):
     """The edges to report for a wafer the beam meets (``touching``: its edges with the touching
     tolerance): the solid's own, so that the tolerance does not leak into reported positions
@@ -194,17 +243,32 @@ def _settled_steps(layout, edges):
     SETTLED_MARGIN of the coordinates' size): then every position is on the side of the edges
     that it is by more than any rounding, and the ``loop`` engine's test would find just that.
     None when not so (the positions next to the edges are then tested)."""
+    return _settler(layout)(edges)
+
+
+def _settler(layout):
+    """``_settled_steps`` for one layout, as a function of the edges: what depends on the scan
+    alone (its size, its last step) worked out once a scan instead of once a wafer. The same
+    values: max over floats and the comparisons are exact, whatever their grouping."""
     scan = layout.scan
-    size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]),
-               abs(edges[0]), abs(edges[1]))
-    margin = SETTLED_MARGIN * size / scan.z_step
-    x0 = (edges[0] - scan.start_z) / scan.z_step
-    x1 = (edges[1] - scan.start_z) / scan.z_step
-    lo, hi = math.ceil(x0), math.floor(x1)
-    if min(lo - x0, x0 - lo + 1, x1 - hi, hi + 1 - x1) <= margin:
-        return None
-    lo, hi = max(0, lo), min(scan.last_step, hi)
-    return (lo, hi) if lo <= hi else None
+    start, step, last_k = scan.start_z, scan.z_step, scan.last_step
+    scan_size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]))
+    ceil, floor = math.ceil, math.floor
+
+    def settled(edges):
+        e0, e1 = edges
+        size = max(scan_size, abs(e0), abs(e1))
+        margin = SETTLED_MARGIN * size / step
+        x0 = (e0 - start) / step
+        x1 = (e1 - start) / step
+        lo, hi = ceil(x0), floor(x1)
+        # min(lo - x0, x0 - lo + 1, x1 - hi, hi + 1 - x1) <= margin, term by term
+        if lo - x0 <= margin or x0 - lo + 1 <= margin or x1 - hi <= margin or hi + 1 - x1 <= margin:
+            return None
+        lo, hi = max(0, lo), min(last_k, hi)
+        return (lo, hi) if lo <= hi else None
+
+    return settled
 
 
 def _snap_to_grid(layout, wafer, edges):
@@ -243,9 +307,15 @@ def analytic_engine(layout, progress=None):
     scan = layout.scan
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")
-    reachable = set(reachable_wafers(layout))
-    edges = [wafer_edges(layout, w) if i in reachable else None
-             for i, w in enumerate(layout.wafers)]
+    edges = [None] * len(layout.wafers)
+    level_scan = layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0
+    level_edges = _level_edger(layout) if level_scan else None
+    for i in reachable_wafers(layout):  # only these: most of a fab's wafers are out of reach
+        wafer = layout.wafers[i]
+        if level_scan and wafer.normal == (0.0, 0.0, 1.0) and not wafer.bow:
+            edges[i] = level_edges(wafer)
+        else:
+            edges[i] = wafer_edges(layout, wafer)
     if scan.exact:
         edges = [None if e is None else geometric_edges(layout, w, e)
                  for w, e in zip(layout.wafers, edges)]
@@ -262,8 +332,12 @@ def analytic_engine(layout, progress=None):
             else:
                 runs.append((first, last))
         return ExactHits(tuple(clipped), tuple(runs))
+    # _is_level(layout, w) and _settled_steps(layout, e), with the layout's part of each
+    # worked out once
+    settled = _settler(layout)
     steps = tuple(None if e is None else
-                  (_is_level(layout, w) and _settled_steps(layout, e)) or _snap_to_grid(layout, w, e)
+                  (level_scan and w.normal == (0.0, 0.0, 1.0) and settled(e))
+                  or _snap_to_grid(layout, w, e)
                   for w, e in zip(layout.wafers, edges))
     return StepHits(scan.position_count, steps, runs_from_intervals(steps))
 

@@ -272,20 +272,36 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
     dd = dx * dx + dy * dy
     ax, ay, az = layout.lift_axis
     drift = math.hypot(ax, ay) / az * (hi_z - lo_z)
+    hypot, sqrt = math.hypot, math.sqrt
     found = []
     for index, wafer in enumerate(wafers):
-        radius, thickness = wafer.radius, wafer.thickness
+        thickness = wafer.thickness
+        radius = wafer.diameter / 2.0  # wafer.radius, without the property's call
         h = thickness / 2.0
         (cx, cy, cz), (nx, ny, nz) = wafer.center, wafer.normal
-        mid_z = cz + h * nz
         bow = abs(wafer.bow)  # 0 but for a bowed wafer (SPEC §10), which reaches further
-        half_z = radius * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
-        if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
-            continue
-        px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
-        f = 0.0 if dd == 0.0 else min(1.0, max(0.0, (px * dx + py * dy) / dd))
-        reach_xy = radius + (0.5 * thickness + bow) * math.hypot(nx, ny)
-        if math.hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
+        if nz == 1.0 and nx == 0.0 and ny == 0.0:
+            # A level wafer (most of a fab's): the general lines below with n = (0, 0, 1), which
+            # give these values exactly (h*0 = 0, x + 0 = x, radius*sqrt(0) = 0, x*1 = x).
+            mid_z = cz + h
+            half_z = 0.5 * thickness + bow
+            if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
+                continue
+            px, py = cx - sx, cy - sy
+            reach_xy = radius
+        else:
+            mid_z = cz + h * nz
+            half_z = radius * sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
+            if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
+                continue
+            px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
+            reach_xy = radius + (0.5 * thickness + bow) * hypot(nx, ny)
+        # min(1, max(0, along)) as comparisons (the same choices, ties and NaN included), as
+        # this runs for every wafer at the beam's height.
+        along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
+        along = along if along > 0.0 else 0.0
+        f = along if along < 1.0 else 1.0
+        if hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
             found.append(index)
     return found
 

@@ -33,6 +33,7 @@ E87 = {EMPTY: 1, PRESENT: 3, CROSS: 5, DOUBLE: 4, THIN: 2, POSITION_ERROR: 2, PR
 
 # When several findings land on one slot the worst one is reported.
 _SEVERITY = (EMPTY, PRESENT, THIN, POSITION_ERROR, DOUBLE, CROSS, PROTRUDING)
+_RANK = {state: rank for rank, state in enumerate(_SEVERITY)}  # _SEVERITY.index, looked up
 
 # Limits are inclusive up to this much (mm), so that a length or offset that equals a limit is
 # not pushed across it by rounding (113.85 - 113.5 != 0.35 in binary floating point).
@@ -262,10 +263,10 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
                 # A second run in a slot is not a normally inserted wafer.
                 two_runs_in_one_slot.add(slot)
             members[slot].append(index)
-            if _SEVERITY.index(state) > _SEVERITY.index(states[slot]):
+            if _RANK[state] > _RANK[states[slot]]:
                 states[slot] = state
         for slot in two_runs_in_one_slot:
-            if _SEVERITY.index(POSITION_ERROR) > _SEVERITY.index(states[slot]):
+            if _RANK[POSITION_ERROR] > _RANK[states[slot]]:
                 states[slot] = POSITION_ERROR
     for slot in unscanned:
         if slot in states:
@@ -273,5 +274,6 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
     for slot in protruding_slots:
         if slot in states:
             states[slot] = PROTRUDING
-    return SlotMap(tuple(SlotState(slot, plan.seat_z(slot), states[slot], tuple(members[slot]))
-                         for slot in sorted(states)))
+    # states' keys are 1..slot_count in order already: sorted(states) is that range
+    return SlotMap(tuple([SlotState(slot, plan.seat_z(slot), states[slot], tuple(members[slot]))
+                          for slot in range(1, plan.slot_count + 1)]))

@@ -43,11 +43,14 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
         run_spans, wafer_spans = _exact_intervals(hits, window)
     else:
         run_spans, wafer_spans = _stepped_intervals(hits, scan, window)
-    runs = [SensorRun(*latch(bottom, top, scan), wafers=names, unlatched=(bottom, top))
-            for (bottom, top), names in zip(run_spans, _run_wafers(run_spans, layout.wafers,
-                                                                   wafer_spans))]
-    wafers = tuple(WaferInterval(w.name, *(span if span is not None else (None, None)))
-                   for w, span in zip(layout.wafers, wafer_spans))
+    latched = [latch(bottom, top, scan) for bottom, top in run_spans]
+    runs = [SensorRun(z_in, z_out, names, span)
+            for (z_in, z_out), span, names in zip(latched, run_spans,
+                                                  _run_wafers(run_spans, layout.wafers,
+                                                              wafer_spans))]
+    wafers = tuple([WaferInterval(w.name, None, None) if span is None else
+                    WaferInterval(w.name, span[0], span[1])
+                    for w, span in zip(layout.wafers, wafer_spans)])
     flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
     # The range the scan was set to cover; between its stepped positions, as everywhere on the
     # grid, the beam is sampled a step apart.
@@ -62,7 +65,9 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
         jabbed, swept_off, probe_warnings = slow_scan.judge(layout, plan, pockets)
         if scan.jab > 0.0:  # the robot's own sensor judges protrusion (§13)
             flagged = jabbed
-    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
+    slot_map = map_slots(plan, [(min(z_in, z_out), max(z_in, z_out)) for z_in, z_out in latched],
+                         flagged, unscanned)
     slot_map = slow_scan.with_position_errors(slot_map, swept_off)
     # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
     probe_warnings += [why for slot, why in sorted(dict(swept_off).items())

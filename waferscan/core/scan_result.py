@@ -137,16 +137,20 @@ def _stepped_intervals(hits, scan, window):
         k_lo = max(0, math.ceil((window[0] - scan.start_z) / scan.z_step))
         k_hi = min(hits.count - 1, math.floor((window[1] - scan.start_z) / scan.z_step))
 
-    def clip(interval):
-        if interval is None or interval[1] < k_lo or interval[0] > k_hi:
+    start, step = scan.start_z, scan.z_step
+
+    def span(interval):
+        """The interval clipped to [k_lo, k_hi], as scan positions (``scan.position``'s
+        arithmetic, written out: this runs for every wafer); None when outside."""
+        first, last = interval
+        if last < k_lo or first > k_hi:
             return None
-        return (max(interval[0], k_lo), min(interval[1], k_hi))
+        return (start + (k_lo if k_lo > first else first) * step,  # max(first, k_lo)
+                start + (k_hi if k_hi < last else last) * step)  # min(last, k_hi)
 
-    def to_z(interval):
-        return None if interval is None else (scan.position(interval[0]), scan.position(interval[1]))
-
-    runs = [to_z(clip(r)) for r in hits.runs]
-    return [r for r in runs if r is not None], [to_z(clip(w)) for w in hits.wafer_steps]
+    runs = [span(r) for r in hits.runs]
+    return ([r for r in runs if r is not None],
+            [None if w is None else span(w) for w in hits.wafer_steps])
 
 
 def _exact_intervals(hits, window):
@@ -178,8 +182,9 @@ def latch(bottom, top, scan):
 def protrusion(carrier, wafer):
     """How far (mm) the wafer reaches out of the carrier's opening beyond a seated wafer."""
     fx, fy = carrier.front
-    mx, my, _ = wafer.mid_center
     nx, ny, nz = wafer.normal
+    h = wafer.thickness / 2.0
+    mx, my = wafer.center[0] + h * nx, wafer.center[1] + h * ny  # wafer.mid_center's X, Y
     along_front = nx * fx + ny * fy
     reach = (mx - carrier.center[0]) * fx + (my - carrier.center[1]) * fy
     reach += wafer.radius * math.sqrt(max(0.0, 1.0 - along_front * along_front))
@@ -191,9 +196,15 @@ def _carrier_wafers(carrier, wafers):
     r = 0.5 * carrier.wafer_diameter
     z_lo = carrier.seat_z(1) - carrier.pitch
     z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+    ox, oy = carrier.center
+    hypot = math.hypot
     for wafer in wafers:
-        mx, my, mz = wafer.mid_center
-        if math.hypot(mx - carrier.center[0], my - carrier.center[1]) < r and z_lo <= mz <= z_hi:
+        # wafer.mid_center, coordinate by coordinate (the same sums), Z first: cheaper than the
+        # property's tuple for each of a fab's wafers, most of which lie in other carriers.
+        h = wafer.thickness / 2.0
+        (cx, cy, cz), (nx, ny, nz) = wafer.center, wafer.normal
+        mz = cz + h * nz
+        if z_lo <= mz <= z_hi and hypot((cx + h * nx) - ox, (cy + h * ny) - oy) < r:
             yield wafer
 
 

@@ -9,7 +9,7 @@ from PySide import QtCore, QtGui
 
 from ..addon import icon_path
 from .inputs import format_length, length_input, set_length
-from .qt import ClosableTaskPanel
+from .qt import ClosableTaskPanel, set_progress
 
 
 class ScanTaskPanel(ClosableTaskPanel):
@@ -148,10 +148,14 @@ class ScanTaskPanel(ClosableTaskPanel):
             return
         self._buttons()
         set_length(self.z, z)
-        self.progress.setValue(k)
+        set_progress(self.progress, k)  # painted with the frame (gui/qt.py)
         lit = self.animation.lit
-        self.beam.setText(f"blocked by {', '.join(lit)}" if lit else "beam clear")
-        self.beam.setStyleSheet("color: #c01010; font-weight: bold;" if lit else "")
+        # Only on a change: a style sheet set, even the same one, restyles the label and lays
+        # the panel out again, at every frame of the animation.
+        text = f"blocked by {', '.join(lit)}" if lit else "beam clear"
+        if text != self.beam.text():
+            self.beam.setText(text)
+            self.beam.setStyleSheet("color: #c01010; font-weight: bold;" if lit else "")
 
     def _finished(self):
         animation = self.animation

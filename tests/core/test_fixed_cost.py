@@ -1,0 +1,117 @@
+"""The analytic scan's per-wafer fast paths (issue 15: the fixed cost of ``scan_layout`` on a
+fab) give exactly what their plain definitions give: the level wafer's edges written out in one
+body against ``translation_range``, the settled steps with the scan's values worked out once
+against the formula wafer by wafer, and the carrier's wafers and their protrusion against
+``Wafer.mid_center``. Bit for bit (``==`` on floats), degenerate beams included."""
+
+import math
+import random
+
+from random_layouts import random_layout
+from waferscan.core.engines import (SETTLED_MARGIN, _level_edger, _settler, wafer_edges)
+from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer
+from waferscan.core.scan_result import _carrier_wafers, protrusion
+
+
+def _level_layout(rng, emitter, heading, length, step=0.05):
+    direction = (math.cos(heading), math.sin(heading), 0.0)
+    if rng.random() < 0.2:  # along an axis: exact zeros in the direction
+        direction = rng.choice([(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (-1.0, 0.0, 0.0)])
+    carrier = Carrier("C1", 25, 10.0, 100.0, (0.0, 0.0), 300.0, 0.775)
+    return Layout((carrier,), (), Beam(emitter, direction, length),
+                  ScanParameters(emitter[2], emitter[2] + 300.0, step))
+
+
+def _level_wafer(rng, near):
+    x, y = near
+    return Wafer("W", (x + rng.uniform(-200, 200), y + rng.uniform(-200, 200),
+                       rng.uniform(-50.0, 400.0)),
+                 (0.0, 0.0, 1.0), rng.choice([150.0, 200.0, 300.0, rng.uniform(1.0, 450.0)]),
+                 rng.uniform(0.1, 2.0))
+
+
+def test_level_edges_are_translation_ranges_bit_for_bit():
+    met = missed = 0
+    for seed in range(3000):
+        rng = random.Random(seed)
+        emitter = (rng.uniform(-300, 300), rng.uniform(-300, 300), rng.uniform(0, 300))
+        layout = _level_layout(rng, emitter, rng.uniform(-math.pi, math.pi),
+                               rng.choice([rng.uniform(1.0, 600.0), 160.0]))
+        wafer = _level_wafer(rng, emitter[:2])
+        if seed % 5 == 0:
+            # The beam's line through the wafer's axis, or beside it at right angles (p.q = 0),
+            # or just grazing the rim: the roots' degenerate and boundary cases.
+            ex, ey, _ = layout.beam.direction
+            side = rng.choice([0.0, wafer.radius, wafer.radius + 1e-9, wafer.radius * 0.5])
+            center = (emitter[0] - ey * side, emitter[1] + ex * side, wafer.center[2])
+            wafer = Wafer("W", center, (0.0, 0.0, 1.0), wafer.diameter, wafer.thickness)
+        for tol in (1e-9, 0.0):
+            expected = wafer_edges(layout, wafer, tol)
+            assert _level_edger(layout, tol)(wafer) == expected, (seed, tol)
+            met += expected is not None
+            missed += expected is None
+    assert met > 1000 and missed > 1000  # both answers exercised
+
+
+def _settled_by_definition(layout, edges):
+    """The settled steps as SPEC'd in engines._settled_steps, term by term, wafer by wafer."""
+    scan = layout.scan
+    size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]),
+               abs(edges[0]), abs(edges[1]))
+    margin = SETTLED_MARGIN * size / scan.z_step
+    x0 = (edges[0] - scan.start_z) / scan.z_step
+    x1 = (edges[1] - scan.start_z) / scan.z_step
+    lo, hi = math.ceil(x0), math.floor(x1)
+    if min(lo - x0, x0 - lo + 1, x1 - hi, hi + 1 - x1) <= margin:
+        return None
+    lo, hi = max(0, lo), min(scan.last_step, hi)
+    return (lo, hi) if lo <= hi else None
+
+
+def test_settled_steps_worked_out_once_a_scan_are_the_formula():
+    settled = unsettled = 0
+    for seed in range(2000):
+        rng = random.Random(seed)
+        step = rng.choice([0.001, 0.05, 0.013, 1.0])
+        start = rng.choice([0.0, 280.0, -5.0, 1500.0])
+        emitter = (0.0, 0.0, start)
+        layout = _level_layout(rng, emitter, 0.0, 160.0, step).with_scan(
+            final_z=start + rng.uniform(0.0, 400.0))
+        low = start + rng.uniform(-20.0, 420.0)
+        if rng.random() < 0.3:  # an edge on the grid, or a hair off it
+            low = start + step * rng.randint(0, 400) + rng.choice([0.0, 1e-13, -1e-13])
+        high = low + rng.uniform(0.0, 2.0)
+        if rng.random() < 0.3:
+            high = start + step * rng.randint(0, 400) + rng.choice([0.0, 1e-13, -1e-13])
+        edges = (low, max(low, high))
+        expected = _settled_by_definition(layout, edges)
+        assert _settler(layout)(edges) == expected, seed
+        settled += expected is not None
+        unsettled += expected is None
+    assert settled > 300 and unsettled > 300
+
+
+def test_carrier_wafers_and_protrusion_are_the_mid_centre_definitions():
+    found = left = 0
+    for seed in range(300):
+        layout = random_layout(random.Random(seed))
+        for carrier in layout.carriers:
+            r = 0.5 * carrier.wafer_diameter
+            z_lo = carrier.seat_z(1) - carrier.pitch
+            z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+            expected = [w for w in layout.wafers
+                        if math.hypot(w.mid_center[0] - carrier.center[0],
+                                      w.mid_center[1] - carrier.center[1]) < r
+                        and z_lo <= w.mid_center[2] <= z_hi]
+            assert list(_carrier_wafers(carrier, layout.wafers)) == expected, seed
+            found += len(expected)
+            left += len(layout.wafers) - len(expected)
+            for wafer in layout.wafers:
+                mx, my, _ = wafer.mid_center
+                nx, ny, _ = wafer.normal
+                along = nx * carrier.front[0] + ny * carrier.front[1]
+                reach = ((mx - carrier.center[0]) * carrier.front[0]
+                         + (my - carrier.center[1]) * carrier.front[1])
+                reach += wafer.radius * math.sqrt(max(0.0, 1.0 - along * along))
+                assert protrusion(carrier, wafer) == reach - 0.5 * carrier.wafer_diameter
+    assert found > 500 and left > 500
