@@ -17,7 +17,9 @@ at once (layouts x wafers), not as N scans in a Python loop:
 - the mapping, by either rule set, scattered per slot with the worst finding kept.
 
 A beam spot, latching in motion or exact edges (z_step = 0) take the scalar path layout by
-layout (``scalar_block``): slower, the same answers by construction.
+layout (``scalar_block``): slower, the same answers by construction. With a beam spot the
+block's column ranges are worked out over arrays first (core/sweep_spot.py), bit for bit the
+floats the scalar spot engine would compute, which then finds them instead of computing them.
 
 Reproducibility: layouts are drawn in blocks of ``BLOCK_SIZE``; block b's generator is
 SeedSequence(seed, spawn_key=(b,)). The samples depend only on the seed and N, whatever the
@@ -891,7 +893,15 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
     ``scalar``: through the scalar path (the oracle)."""
     draws = draw_block(base, tolerances, seed, block, count)
     peaks = []
-    if scalar or needs_scalar_path(base.layout):
+    spot = base.layout.spot
+    if scalar:
+        states, thickness, bottom = scalar_block(base, draws, peaks)
+    elif spot is not None and not spot.ideal:
+        # The spot's column ranges over arrays, then the scalar spot engine: the same answers.
+        from .sweep_spot import spot_block
+
+        states, thickness, bottom = spot_block(base, draws, peaks)
+    elif needs_scalar_path(base.layout):
         states, thickness, bottom = scalar_block(base, draws, peaks)
     else:
         states, thickness, bottom = scan_block(base, draws)
