@@ -218,3 +218,61 @@ def test_spot_sweep_summary_equals_the_scalar_paths():
             assert fast[key] == slow[key] < 1.0
         else:
             assert np.array_equal(fast[key], slow[key], equal_nan=True)
+
+
+def test_round_spot_fraction_is_grouped_fraction_bit_for_bit():
+    """The sort-free area of a round spot against spot.GroupedFraction, at translations across
+    every group's reach and beyond, groups of one wafer and of several (doubles, cross)."""
+    base = sweep.sweep_base(spot_paper())
+    draws = sweep.draw_block(base, parse_tolerances(TILTED), 9, 0, 30)
+    rng = np.random.default_rng(3)
+    compared = 0
+    for i in range(30):
+        layout = sweep.sample_layout(base, draws, i)
+        groups = spot_module.wafer_groups(layout, layout.wafers, layout.spot)
+        fractions = [spot_module.BlockedFraction(layout, [layout.wafers[j] for j in members],
+                                                 layout.spot, ranges)
+                     for members, ranges, _ in groups]
+        scalar = spot_module.GroupedFraction(fractions)
+        fast = sweep_spot.RoundSpotFraction(fractions)
+        owner = np.repeat(np.arange(len(groups)), 60)
+        tau = np.concatenate([rng.uniform(lo - 0.3, hi + 0.3, 60) for _, _, (lo, hi) in groups])
+        expected = scalar(tau, owner)
+        assert np.array_equal(fast(tau, owner), expected)
+        compared += int(((expected > 0.0) & (expected < 1.0)).sum())
+    assert compared > 10000
+
+
+def test_the_lean_path_runs_and_builds_most_groups_from_the_table(monkeypatch):
+    built = []
+    blocked = spot_module.BlockedFraction
+
+    def counted(*args, **kwargs):
+        built.append(len(args[1]))
+        return blocked(*args, **kwargs)
+
+    monkeypatch.setattr(spot_module, "BlockedFraction", counted)
+    base = sweep.sweep_base(spot_paper())
+    draws = sweep.draw_block(base, parse_tolerances(TILTED), 12, 0, 40)
+    layouts = [sweep.sample_layout(base, draws, i) for i in range(40)]
+    assert all(sweep_spot.lean_spot_path(layout) for layout in layouts)
+    table = sweep_spot.range_table(layouts, base.layout.spot)
+    groups, lean_built = 0, []
+    for layout in layouts:
+        built.clear()
+        runs, peaks = sweep_spot.spot_runs(layout, table)
+        lean_built += built
+        groups += len(peaks)
+        # The runs are the scalar scan's, edge for edge.
+        assert [(r.z_in, r.z_out, r.wafers) for r in runs] == \
+            [(r.z_in, r.z_out, r.wafers) for r in scan_layout_runs(layout)]
+    # BlockedFraction's own search for the groups of several wafers (doubles, cross) and the
+    # few single wafers with a strip to halve; the rest from the table.
+    assert 0 < len(lean_built) < 0.2 * groups
+    assert sum(n == 1 for n in lean_built) < 0.05 * groups, (lean_built, groups)
+
+
+def scan_layout_runs(layout):
+    from waferscan.core.scan import scan_layout
+
+    return scan_layout(layout).runs

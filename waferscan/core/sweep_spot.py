@@ -19,11 +19,15 @@ scalar path's by construction: the table holds only the same floats it would hav
 
 from __future__ import annotations
 
+import math
+
 from . import spot as spot_module
+from .model import SLOW as SLOW_MODE
 
 # Where |det| of two boundary lines lies within this relative distance of _solve_lines's
 # parallel test (1e-14 * the lines' norms, with math.hypot) the scalar function decides.
 _EDGE_OF_PARALLEL = 1e-9
+_MISSING_RANGE = object()
 
 
 def translation_ranges(emitter, direction, axis, center, normal, radius, thickness, length,
@@ -205,8 +209,255 @@ def spot_block(base, draws, peaks=None):
     bottom = np.full((m, S), np.nan)
     with spot_module.precomputed_ranges(table):
         for i, sample in enumerate(layouts):
-            st, th, bo = scalar_layout_states(base, sample, peaks)
+            if lean_spot_path(sample):
+                runs, group_peaks = spot_runs(sample, table)
+                if peaks is not None:
+                    peaks.extend(group_peaks)
+                st, th, bo = states_of_runs(base, sample, runs)
+            else:
+                st, th, bo = scalar_layout_states(base, sample, peaks)
             states[i] = st
             thickness[i] = [np.nan if v is None else v for v in th]
             bottom[i] = [np.nan if v is None else v for v in bo]
+    return states, thickness, bottom
+
+
+def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
+    """``spot._area_below`` of a round spot, the same floats with less work: the line meets the
+    circle at s1 <= s2, clipped into [sa, sb], so the four break points are already in order
+    (sa, s1, s2, sb) and need no sort (no -0.0 among them: a strip's ends are +0.0 or not zero,
+    and the roots' zeros are +0.0); the circle's primitive at sa and sb is the strip's own
+    (``primitive_a``, ``primitive_b``, computed once per strip, not once per translation)."""
+    import numpy as np
+
+    width = sb - sa
+    m = (yb - ya) / width
+    k = ya - m * sa
+    r = spot.half_width
+    qa = 1.0 + m * m
+    qb = m * k
+    disc = qb * qb - qa * (k * k - r * r)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    s1 = np.where(disc > 0.0, (-qb - root) / qa, sa)
+    s2 = np.where(disc > 0.0, (-qb + root) / qa, sa)
+    c1, c2 = np.clip(s1, sa, sb), np.clip(s2, sa, sb)
+    shape = k.shape
+    pts = (np.broadcast_to(sa, shape), c1, c2, np.broadcast_to(sb, shape))
+    prim = (np.broadcast_to(primitive_a, shape), spot_module._circle_primitive(c1, r),
+            spot_module._circle_primitive(c2, r), np.broadcast_to(primitive_b, shape))
+    total = np.zeros(shape)
+    for j in range(3):
+        a, bnd = pts[j], pts[j + 1]
+        mid_s = 0.5 * (a + bnd)
+        mid = m * mid_s + k
+        c_mid = np.sqrt(np.maximum(r * r - mid_s * mid_s, 0.0))
+        arc = prim[j + 1] - prim[j]
+        linear = 0.5 * m * (bnd * bnd - a * a) + k * (bnd - a)
+        total += np.where(mid >= c_mid, arc, np.where(mid <= -c_mid, -arc, linear))
+    return total
+
+
+class RoundSpotFraction(spot_module.GroupedFraction):
+    """``spot.GroupedFraction`` of a round spot, evaluated by ``_round_area_below``: the same
+    values bit for bit (tests/core/test_sweep_spot.py)."""
+
+    def __init__(self, fractions):
+        super().__init__(fractions)
+        r = self.spot.half_width
+        self.primitives = {width: (spot_module._circle_primitive(table["_sa"], r),
+                                   spot_module._circle_primitive(table["_sb"], r))
+                           for width, table in self.tables.items()}
+
+    def __call__(self, tau, group):
+        import numpy as np
+
+        tau = np.asarray(tau, dtype=float)
+        group = np.asarray(group, dtype=int)
+        out = np.zeros(tau.shape)
+        b = self.beta
+        for width, table in self.tables.items():
+            if width == 0:
+                continue
+            mask = self.width[group] == width
+            if not mask.any():
+                continue
+            rows = self.slot[group[mask]]
+            d = {k: v[rows] for k, v in table.items()}
+            pa, pb = (p[rows] for p in self.primitives[width])
+            t = tau[mask][:, None]
+            upper = _round_area_below(self.spot, d["_sa"], d["_sb"], b * (d["_hi_a"] - t),
+                                      b * (d["_hi_b"] - t), pa, pb)
+            lower = _round_area_below(self.spot, d["_sa"], d["_sb"], b * (d["_lo_a"] - t),
+                                      b * (d["_lo_b"] - t), pa, pb)
+            out[mask] = (upper - lower).sum(axis=1) / self.spot.area
+        return np.clip(out, 0.0, 1.0)
+
+
+class _Strips:
+    """A group's strips with linear limits, as ``spot.BlockedFraction`` holds them (the fields
+    ``spot.GroupedFraction`` reads), built from the table by ``_single_wafer_strips``."""
+
+    def __init__(self, spot, beta, pieces):
+        import numpy as np
+
+        self.spot = spot
+        self.beta = beta
+        data = np.array(pieces, dtype=float).reshape(-1, 6)
+        self._sa, self._sb = data[:, 0], data[:, 1]
+        self._lo_a, self._lo_b, self._hi_a, self._hi_b = (data[:, 2], data[:, 3], data[:, 4],
+                                                          data[:, 5])
+
+
+def _single_wafer_strips(spot, positions, middles, ranges, middle_ranges):
+    """``BlockedFraction``'s strips of a group of one wafer, in its order, when no strip needs
+    halving: the column ranges ``ranges`` at ``positions`` and ``middle_ranges`` at the strips'
+    middles (a range or None each). None where a strip would be halved (the caller then builds
+    the group with ``BlockedFraction`` itself)."""
+    pieces = []
+    tolerance = spot_module.LINEAR_TOLERANCE
+    for i in range(len(positions) - 1):
+        sa, sb = positions[i], positions[i + 1]
+        a, b = ranges[i], ranges[i + 1]
+        left = [] if a is None else [a]
+        right = [] if b is None else [b]
+        if left != right:
+            m = middle_ranges[i]
+            middle = [] if m is None else [m]
+            if not (len(left) == len(right) == len(middle) and all(
+                    abs(0.5 * (lo[0] + r[0]) - mi[0]) <= tolerance
+                    and abs(0.5 * (lo[1] + r[1]) - mi[1]) <= tolerance
+                    for lo, r, mi in zip(left, right, middle))):
+                return None
+        # BlockedFraction's ``add``.
+        if len(left) == 1 and pieces and pieces[-1][1] == sa and spot_module._extends(
+                pieces[-1], sb, right[0]):
+            last = pieces[-1]
+            pieces[-1] = (last[0], sb, last[2], right[0][0], last[4], right[0][1])
+            continue
+        for (la, ha), (lb, hb) in zip(left, right):
+            pieces.append((sa, sb, la, lb, ha, hb))
+    return pieces
+
+
+def lean_spot_path(layout):
+    """Whether ``spot_runs`` covers the layout's scan: a beam spot read on the step grid
+    (latched per step, not exact) in a fast scan. Others take the scalar ``scan_layout``."""
+    from .motion import STEP
+
+    scan = layout.scan
+    spot = layout.spot
+    return (spot is not None and not spot.ideal and scan.latch == STEP and not scan.exact
+            and scan.mode != SLOW_MODE and scan.final_z >= scan.start_z)
+
+
+def spot_runs(layout, table):
+    """The runs (``SensorRun``) and the groups' peak blocked fractions of ``sensing.sensed_scan``
+    for a layout ``lean_spot_path`` covers, and nothing else it computes (the line beam's
+    wafer intervals, warnings, the slot map): the same steps in the same order, the groups of
+    one wafer built from ``table`` without ``BlockedFraction``'s search."""
+    import numpy as np
+
+    from .amplifier import stepped_output
+    from .scan_result import SensorRun
+    from .sensing import _latcher, _strokes
+    from .spot import DEFAULT_AMPLIFIER, BlockedFraction, wafer_groups
+
+    scan = layout.scan
+    spot = layout.spot
+    amplifier = layout.amplifier or DEFAULT_AMPLIFIER
+    moving = _strokes(scan)
+    beam, axis = layout.beam, layout.lift_axis
+    z0 = beam.emitter[2]
+    az = axis[2]
+    low, high = scan.start_z, scan.final_z
+    on_level, off_level = amplifier.threshold_on, amplifier.off_level
+    candidates = layout.wafers
+    groups = wafer_groups(layout, candidates, spot)
+    beta = spot_module.spot_frame(beam.direction, axis)[3]
+    positions = spot_module._column_positions(spot, spot_module.COLUMNS)
+    middles = column_offsets(spot)[spot_module.COLUMNS + 1:]
+    b_id = id(beam)
+    fractions, spans, names = [], [], []
+    for members, ranges, (tau_lo, tau_hi) in groups:
+        wafers = [candidates[i] for i in members]
+        pieces = None
+        if len(wafers) == 1:
+            w_id = id(wafers[0])
+            middle_ranges = [table.get((w_id, b_id, s), _MISSING_RANGE) for s in middles]
+            if _MISSING_RANGE not in middle_ranges:
+                pieces = _single_wafer_strips(spot, positions, middles, ranges[0],
+                                              middle_ranges)
+        if pieces:
+            fraction = _Strips(spot, beta, pieces)
+        else:
+            fraction = BlockedFraction(layout, wafers, spot, ranges)
+        z_lo, z_hi = z0 + tau_lo * az, z0 + tau_hi * az
+        names.append(tuple(w.name for w in wafers))
+        fractions.append(fraction)
+        spans.append((max(z_lo, low), min(z_hi, high)))
+    peaks = [0.0] * len(fractions)
+    out = {up: [] for up in moving}
+    if fractions:
+        together = (RoundSpotFraction if spot.round else spot_module.GroupedFraction)(fractions)
+        steps, owners = [], []
+        for g, (lo, hi) in enumerate(spans):
+            k_lo = max(0, math.ceil((lo - scan.start_z) / scan.z_step))
+            k_hi = min(scan.last_step, math.floor((hi - scan.start_z) / scan.z_step))
+            steps.append(scan.position(np.arange(k_lo, k_hi + 1, dtype=float)))
+            owners.append(np.full(len(steps[-1]), g))
+        z_all = np.concatenate(steps)
+        values_all = together((z_all - z0) / az, np.concatenate(owners)) if z_all.size \
+            else z_all
+        offset = 0
+        for g, z in enumerate(steps):
+            values = values_all[offset:offset + len(z)]
+            offset += len(z)
+            if not len(z):
+                continue
+            peaks[g] = float(values.max())
+            for up in moving:
+                for first, last in stepped_output(values, on_level, off_level, up):
+                    out[up].append((float(z[first]), float(z[last]), names[g]))
+    for up in moving:
+        out[up].sort()
+    # sensed_scan's runs.
+    latched = {}
+    for up in moving:
+        at = _latcher(scan, up)
+        latched[up] = [(at(a), at(b)) if up else (at(b), at(a)) for a, b, _ in out[up]]
+    runs = []
+    if len(moving) == 2 and len(out[True]) == len(out[False]) and all(
+            u[0] <= d[1] and d[0] <= u[1] for u, d in zip(out[True], out[False])):
+        for (a, b, group), (in_u, out_u), (in_d, out_d) in zip(out[True], latched[True],
+                                                               latched[False]):
+            runs.append(SensorRun(0.5 * (in_u + out_d), 0.5 * (out_u + in_d), group, (a, b)))
+    else:
+        first = moving[0]
+        for (a, b, group), (z_in, z_out) in zip(out[first], latched[first]):
+            runs.append(SensorRun(z_in, z_out, group, (a, b)))
+    return runs, peaks
+
+
+def states_of_runs(base, layout, runs):
+    """``sweep.scalar_layout_states``'s answer from the scan's runs (``SensorRun``s): the
+    recipe's mapping, the first run's thickness and bottom per slot."""
+    from . import mapping
+    from .mapping import map_slots, unscanned_slots
+    from .scan_result import protruding_slots
+    from .sweep import UNSCANNED
+
+    plan = base.plan
+    flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
+    unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
+    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    states, thickness, bottom = [], [], []
+    for slot in slot_map.slots:
+        states.append(UNSCANNED if slot.state == mapping.UNSCANNED else slot.state)
+        if slot.runs:
+            run = runs[slot.runs[0]]
+            thickness.append(run.diff)
+            bottom.append(run.bottom)
+        else:
+            thickness.append(None)
+            bottom.append(None)
     return states, thickness, bottom
