@@ -144,7 +144,8 @@ def _merged(intervals):
 
 
 # A sweep's centre-ray ranges worked out beforehand over arrays (core/sweep_spot.py):
-# {(id(wafer), id(beam), s): range}, the same floats ``translation_range`` gives; None: none.
+# {(id(wafer), id(beam)): ({s: range}, ...)}, the same floats ``translation_range`` gives;
+# None: none.
 _PRECOMPUTED = None
 _MISSING = object()
 
@@ -171,9 +172,11 @@ def _centre_ray_range(s, u, beam, axis, wafer):
     """``translation_range`` (tol 0) of the centre ray of the spot's column at offset s."""
     table = _PRECOMPUTED
     if table is not None:
-        found = table.get((id(wafer), id(beam), s), _MISSING)
-        if found is not _MISSING:
-            return found
+        entry = table.get((id(wafer), id(beam)))
+        if entry is not None:
+            found = entry[0].get(s, _MISSING)
+            if found is not _MISSING:
+                return found
     ox, oy, oz = beam.emitter
     return translation_range((ox + s * u[0], oy + s * u[1], oz + s * u[2]), beam, axis, wafer,
                              tol=0.0)

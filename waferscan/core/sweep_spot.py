@@ -27,7 +27,8 @@ from .model import SLOW as SLOW_MODE
 # Where |det| of two boundary lines lies within this relative distance of _solve_lines's
 # parallel test (1e-14 * the lines' norms, with math.hypot) the scalar function decides.
 _EDGE_OF_PARALLEL = 1e-9
-_MISSING_RANGE = object()
+# A range the table leaves to the scalar function.
+MISSING = spot_module._MISSING
 
 
 def translation_ranges(emitter, direction, axis, center, normal, radius, thickness, length,
@@ -80,27 +81,56 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
         empty = parallel & (rim_disc < 0.0)
         rim_root = np.sqrt(np.maximum(rim_disc, 0.0))
 
-        one = np.ones_like(wn)
-        zero = np.zeros_like(wn)
-        lines = [(one, zero, np.full(wn.shape, -tol)), (one, zero, np.full(wn.shape, length + tol)),
-                 (en, an, -tol - wn), (en, an, t + tol - wn),
-                 (qu, gu, -pu - rim_root), (qu, gu, -pu + rim_root)]
-        rows = [True, True, True, True, parallel, parallel]
-        candidates = []
-        for i, (a1, b1, c1) in enumerate(lines):
-            for j in range(i + 1, len(lines)):
-                a2, b2, c2 = lines[j]
-                det = a1 * b2 - a2 * b1
-                scale = np.hypot(a1, b1) * np.hypot(a2, b2)
-                limit = 1e-14 * scale
-                # np.hypot may differ from math.hypot in the last bit: on the test's edge the
-                # scalar function decides.
-                rows_ij = rows[i] & rows[j]
-                covered &= ~(rows_ij & (np.abs(np.abs(det) - limit) <= _EDGE_OF_PARALLEL * limit))
-                valid = ~((scale == 0.0) | (np.abs(det) <= limit)) & rows_ij
-                candidates.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
+        lo = np.full(wn.shape, np.inf)
+        hi = np.full(wn.shape, -np.inf)
+        # The level wafers' rows (a rim of two lines) and the others' (a conic) apart: each
+        # takes only its own candidates, the same floats as on all rows (elementwise).
+        for rows, rim_lines in ((np.flatnonzero(parallel), True),
+                                (np.flatnonzero(~parallel), False)):
+            if not len(rows):
+                continue
+            edge, lo[rows], hi[rows] = _extremes(
+                wn[rows], en[rows], an[rows], tuple(x[rows] for x in p),
+                tuple(x[rows] for x in q), tuple(x[rows] for x in g), r[rows], r2[rows],
+                t[rows], length, tol,
+                (qu[rows], gu[rows], pu[rows], rim_root[rows]) if rim_lines else None)
+            covered[rows] &= ~edge
+    hit = (lo <= hi) & ~empty
+    return lo, hi, hit, covered
+
+
+def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):
+    """``translation_range``'s corner candidates and feasible extremes on rows of one kind:
+    ``rim`` (qu, gu, pu, root) where the rim is two parallel lines, None where it is a conic.
+    Returns (edge, lo, hi): ``edge`` where _solve_lines's parallel test is too close to call."""
+    import numpy as np
+
+    def dot(a, b):
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    one = np.ones_like(wn)
+    zero = np.zeros_like(wn)
+    lines = [(one, zero, np.full(wn.shape, -tol)), (one, zero, np.full(wn.shape, length + tol)),
+             (en, an, -tol - wn), (en, an, t + tol - wn)]
+    if rim is not None:
+        qu, gu, pu, root = rim
+        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
+    edge = np.zeros(wn.shape, dtype=bool)
+    candidates = []
+    for i, (a1, b1, c1) in enumerate(lines):
+        for a2, b2, c2 in lines[i + 1:]:
+            # _solve_lines
+            det = a1 * b2 - a2 * b1
+            scale = np.hypot(a1, b1) * np.hypot(a2, b2)
+            limit = 1e-14 * scale
+            # np.hypot may differ from math.hypot in the last bit: on the test's edge the
+            # scalar function decides.
+            edge |= np.abs(np.abs(det) - limit) <= _EDGE_OF_PARALLEL * limit
+            valid = ~((scale == 0.0) | (np.abs(det) <= limit))
+            candidates.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
+    if rim is None:
         tangent = (dot(q, q), dot(q, g), -dot(q, p))
-        for alpha, beta, gamma in lines[:4] + [tangent]:
+        for alpha, beta, gamma in lines + [tangent]:
             # _line_meets_circle
             nn = alpha * alpha + beta * beta
             lam0, tau0 = gamma * alpha / nn, gamma * beta / nn
@@ -112,23 +142,22 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
             c = dot(p0, p0) - r2
             disc = pv * pv - vv * c
             root = np.sqrt(np.maximum(disc, 0.0))
-            valid = (nn != 0.0) & (vv != 0.0) & ~(disc < 0.0) & ~parallel
+            valid = (nn != 0.0) & (vv != 0.0) & ~(disc < 0.0)
             for s in ((-pv - root) / vv, (-pv + root) / vv):
                 candidates.append((lam0 + s * dlam, tau0 + s * dtau, valid))
-        # _feasible_range
-        slack = 1e-9
-        lo = np.full(wn.shape, np.inf)
-        hi = np.full(wn.shape, -np.inf)
-        for lam, tau, valid in candidates:
-            ok = valid & (-tol - slack <= lam) & (lam <= length + tol + slack)
-            h = wn + lam * en + tau * an
-            ok &= (-tol - slack <= h) & (h <= t + tol + slack)
-            x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
-            ok &= ~(dot(x, x) > r2 + 2.0 * r * slack)
-            lo = np.where(ok, np.minimum(lo, tau), lo)
-            hi = np.where(ok, np.maximum(hi, tau), hi)
-    hit = (lo <= hi) & ~empty
-    return lo, hi, hit, covered
+    # _feasible_range
+    slack = 1e-9
+    lo = np.full(wn.shape, np.inf)
+    hi = np.full(wn.shape, -np.inf)
+    for lam, tau, valid in candidates:
+        ok = valid & (-tol - slack <= lam) & (lam <= length + tol + slack)
+        h = wn + lam * en + tau * an
+        ok &= (-tol - slack <= h) & (h <= t + tol + slack)
+        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
+        ok &= ~(dot(x, x) > r2 + 2.0 * r * slack)
+        lo = np.where(ok, np.minimum(lo, tau), lo)
+        hi = np.where(ok, np.maximum(hi, tau), hi)
+    return edge, lo, hi
 
 
 def column_offsets(spot, columns=spot_module.COLUMNS):
@@ -141,8 +170,9 @@ def column_offsets(spot, columns=spot_module.COLUMNS):
 
 def range_table(layouts, spot, columns=spot_module.COLUMNS):
     """The centre-ray ranges (tol 0) of every flat wafer of ``layouts`` (each with its own
-    beam, the same lift axis and emitter) at ``column_offsets``: {(id(wafer), id(beam), s):
-    (lo, hi) or None}, only the entries the array formulas cover bit for bit."""
+    beam, the same lift axis and emitter) at ``column_offsets``: {(id(wafer), id(beam)):
+    ({s: (lo, hi) or None}, [the same in the offsets' order])}, only the ranges the array
+    formulas cover bit for bit (in the list the others are ``MISSING``)."""
     import numpy as np
 
     offsets = column_offsets(spot, columns)
@@ -178,15 +208,14 @@ def range_table(layouts, spot, columns=spot_module.COLUMNS):
         raise ValueError("range_table: the layouts' beams must be of one length")
     lo, hi, hit, covered = translation_ranges(emitter, direction, axis, center, normal, radius,
                                               thickness, lengths.pop(), 0.0)
-    lo, hi = lo.tolist(), hi.tolist()
-    hit, covered = hit.tolist(), covered.tolist()
-    j = 0
-    for wafer, beam, _ in rows:
-        w_id, b_id = id(wafer), id(beam)
-        for offset in offsets:
-            if covered[j]:
-                table[(w_id, b_id, offset)] = (lo[j], hi[j]) if hit[j] else None
-            j += 1
+    values = [(a, b) if h else None if c else MISSING
+              for a, b, h, c in zip(lo.tolist(), hi.tolist(), hit.tolist(), covered.tolist())]
+    for j, (wafer, beam, _) in enumerate(rows):
+        mine = values[j * k:(j + 1) * k]
+        by_offset = dict(zip(offsets, mine))
+        if MISSING in mine:
+            by_offset = {s: v for s, v in by_offset.items() if v is not MISSING}
+        table[(id(wafer), id(beam))] = (by_offset, mine)
     return table
 
 
@@ -381,10 +410,10 @@ def spot_runs(layout, table):
     for members, ranges, (tau_lo, tau_hi) in groups:
         wafers = [candidates[i] for i in members]
         pieces = None
-        if len(wafers) == 1:
-            w_id = id(wafers[0])
-            middle_ranges = [table.get((w_id, b_id, s), _MISSING_RANGE) for s in middles]
-            if _MISSING_RANGE not in middle_ranges:
+        entry = table.get((id(wafers[0]), b_id)) if len(wafers) == 1 else None
+        if entry is not None:
+            middle_ranges = entry[1][spot_module.COLUMNS + 1:]
+            if MISSING not in middle_ranges:
                 pieces = _single_wafer_strips(spot, positions, middles, ranges[0],
                                               middle_ranges)
         if pieces:
