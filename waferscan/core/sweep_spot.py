@@ -27,6 +27,8 @@ from .model import SLOW as SLOW_MODE
 # Where |det| of two boundary lines lies within this relative distance of _solve_lines's
 # parallel test (1e-14 * the lines' norms, with math.hypot) the scalar function decides.
 _EDGE_OF_PARALLEL = 1e-9
+# Translations evaluated at once by _BlockFraction (x the strips: ~50,000 floats an array).
+_CHUNK = 2000
 # A range the table leaves to the scalar function.
 MISSING = spot_module._MISSING
 
@@ -237,9 +239,11 @@ def spot_block(base, draws, peaks=None):
     thickness = np.full((m, S), np.nan)
     bottom = np.full((m, S), np.nan)
     with spot_module.precomputed_ranges(table):
+        lean = [i for i, sample in enumerate(layouts) if lean_spot_path(sample)]
+        answers = dict(zip(lean, lean_block([layouts[i] for i in lean], table)))
         for i, sample in enumerate(layouts):
-            if lean_spot_path(sample):
-                runs, group_peaks = spot_runs(sample, table)
+            if i in answers:
+                runs, group_peaks = answers[i]
                 if peaks is not None:
                     peaks.extend(group_peaks)
                 st, th, bo = states_of_runs(base, sample, runs)
@@ -381,64 +385,258 @@ def lean_spot_path(layout):
 
 def spot_runs(layout, table):
     """The runs (``SensorRun``) and the groups' peak blocked fractions of ``sensing.sensed_scan``
-    for a layout ``lean_spot_path`` covers, and nothing else it computes (the line beam's
-    wafer intervals, warnings, the slot map): the same steps in the same order, the groups of
-    one wafer built from ``table`` without ``BlockedFraction``'s search."""
+    for a layout ``lean_spot_path`` covers (``lean_block`` of that one layout)."""
+    return lean_block([layout], table)[0]
+
+
+def _groups(layout, spot, table):
+    """``spot.wafer_groups`` of the layout, the column ranges read from ``table`` (the same
+    floats; ``column_ranges`` where the table lacks a wafer's)."""
+    columns = spot_module.COLUMNS
+    beta = spot_module.spot_frame(layout.beam.direction, layout.lift_axis)[3]
+    reach = spot.half_height / beta
+    b_id = id(layout.beam)
+    spans = []
+    for index, wafer in enumerate(layout.wafers):
+        entry = table.get((id(wafer), b_id))
+        ranges = entry[1][:columns + 1] if entry is not None else None
+        if ranges is None or MISSING in ranges:
+            ranges = spot_module.column_ranges(layout, wafer, spot, columns)
+        found = [r for r in ranges if r is not None]
+        if found:
+            spans.append((min(r[0] for r in found) - reach, max(r[1] for r in found) + reach,
+                          index, ranges))
+    spans.sort(key=lambda x: (x[0], x[1]))
+    groups = []
+    for lo, hi, index, ranges in spans:
+        if groups and lo <= groups[-1][2][1]:
+            members, member_ranges, (glo, ghi) = groups[-1]
+            groups[-1] = (members + [index], member_ranges + [ranges], (glo, max(ghi, hi)))
+        else:
+            groups.append(([index], [ranges], (lo, hi)))
+    return groups
+
+
+def _table_strips(spot, rows):
+    """``BlockedFraction``'s strips of groups of one wafer over arrays: ``rows`` holds each
+    wafer's ranges at ``column_offsets`` (tuples or None). Returns (strips, fallback): per row
+    a boolean mask over the spot's strips of those that make a piece (its limits are the
+    strip's ends'), or None for the rows whose strips are not that simple (a strip to halve, a
+    piece continuing the one before it in a straight line): ``_single_wafer_strips`` or
+    ``BlockedFraction`` builds those, in order."""
+    import numpy as np
+
+    columns = spot_module.COLUMNS
+    n = len(rows)
+    flat = [x if x is not None else (math.nan, math.nan) for row in rows for x in row]
+    data = np.array(flat, dtype=float).reshape(n, 2 * columns + 1, 2)
+    ok = ~np.isnan(data[:, :, 0])
+    col_lo, col_hi, col_ok = data[:, :columns + 1, 0], data[:, :columns + 1, 1], ok[:, :columns + 1]
+    mid_lo, mid_hi, mid_ok = data[:, columns + 1:, 0], data[:, columns + 1:, 1], ok[:, columns + 1:]
+    l0, l1, left = col_lo[:, :-1], col_hi[:, :-1], col_ok[:, :-1]
+    r0, r1, right = col_lo[:, 1:], col_hi[:, 1:], col_ok[:, 1:]
+    tolerance = spot_module.LINEAR_TOLERANCE
+    both = left & right
+    with np.errstate(invalid="ignore"):
+        equal = both & (l0 == r0) & (l1 == r1)
+        linear = both & mid_ok & (np.abs(0.5 * (l0 + r0) - mid_lo) <= tolerance) & \
+            (np.abs(0.5 * (l1 + r1) - mid_hi) <= tolerance)
+        piece = equal | linear
+        simple = np.all(piece | (~left & ~right), axis=1)
+        # ``add`` would merge strip i into strip i-1's piece (spot._extends, tol 1e-12): such
+        # rows are built one strip after another.
+        positions = np.array(spot_module._column_positions(spot, columns))
+        sa, sb = positions[:-1], positions[1:]
+        f = (sb[1:] - sa[:-1]) / (sb[:-1] - sa[:-1])
+        lo_line = l0[:, :-1] + f * (r0[:, :-1] - l0[:, :-1]) - r0[:, 1:]
+        hi_line = l1[:, :-1] + f * (r1[:, :-1] - l1[:, :-1]) - r1[:, 1:]
+        merges = piece[:, :-1] & piece[:, 1:] & (np.abs(lo_line) <= 1e-12) & \
+            (np.abs(hi_line) <= 1e-12)
+    simple &= ~merges.any(axis=1)
+    return [piece[i] if simple[i] else None for i in range(n)], (sa, sb, l0, r0, l1, r1)
+
+
+class _BlockFraction:
+    """The blocked fraction of every group of a block of layouts, in one evaluation per number
+    of strips: ``spot.GroupedFraction``'s tables with each group's beta (its layout's) beside
+    its strips, read by ``_round_area_below`` (a round spot) or ``spot._area_below``."""
+
+    FIELDS = spot_module.GroupedFraction.FIELDS
+
+    def __init__(self, spot):
+        self.spot = spot
+        self.rows = {}  # strip count -> {field: [arrays]}, betas
+        self.where = []  # group -> (strip count, row)
+
+    def add(self, beta, fields):
+        """A group with strips ``fields`` (six equal-length 1-D arrays); returns its index."""
+        width = len(fields[0])
+        table = self.rows.setdefault(width, ([[] for _ in self.FIELDS], []))
+        for column, values in zip(table[0], fields):
+            column.append(values)
+        table[1].append(beta)
+        self.where.append((width, len(table[1]) - 1))
+        return len(self.where) - 1
+
+    def add_many(self, betas, fields):
+        """Groups of one strip count: ``fields`` six (groups, strips) arrays."""
+        import numpy as np
+
+        width = fields[0].shape[1]
+        table = self.rows.setdefault(width, ([[] for _ in self.FIELDS], []))
+        start = len(table[1])
+        for column, values in zip(table[0], fields):
+            column.extend(np.asarray(values))
+        table[1].extend(betas)
+        first = len(self.where)
+        self.where.extend((width, start + i) for i in range(len(betas)))
+        return list(range(first, len(self.where)))
+
+    def evaluate(self, tau, group):
+        """b at translations ``tau`` of groups ``group`` (arrays)."""
+        import numpy as np
+
+        spot = self.spot
+        r = spot.half_width
+        where = np.array(self.where, dtype=np.int64).reshape(-1, 2)
+        width, slot = where[:, 0], where[:, 1]
+        out = np.zeros(tau.shape)
+        for w, (columns, betas) in self.rows.items():
+            if w == 0:
+                continue
+            mask = width[group] == w
+            if not mask.any():
+                continue
+            fields = {name: np.array(values).reshape(len(betas), w)
+                      for name, values in zip(self.FIELDS, columns)}
+            if spot.round:
+                fields["pa"] = spot_module._circle_primitive(fields["_sa"], r)
+                fields["pb"] = spot_module._circle_primitive(fields["_sb"], r)
+            beta_of = np.array(betas)
+            where_all = np.flatnonzero(mask)
+            # In chunks that stay in the cache (the arrays of one evaluation are ~40 deep).
+            for start in range(0, len(where_all), _CHUNK):
+                at = where_all[start:start + _CHUNK]
+                rows = slot[group[at]]
+                d = {name: values[rows] for name, values in fields.items()}
+                b = beta_of[rows][:, None]
+                t = tau[at][:, None]
+                if spot.round:
+                    upper = _round_area_below(spot, d["_sa"], d["_sb"], b * (d["_hi_a"] - t),
+                                              b * (d["_hi_b"] - t), d["pa"], d["pb"])
+                    lower = _round_area_below(spot, d["_sa"], d["_sb"], b * (d["_lo_a"] - t),
+                                              b * (d["_lo_b"] - t), d["pa"], d["pb"])
+                else:
+                    upper = spot_module._area_below(spot, d["_sa"], d["_sb"],
+                                                    b * (d["_hi_a"] - t), b * (d["_hi_b"] - t))
+                    lower = spot_module._area_below(spot, d["_sa"], d["_sb"],
+                                                    b * (d["_lo_a"] - t), b * (d["_lo_b"] - t))
+                out[at] = (upper - lower).sum(axis=1) / spot.area
+        return np.clip(out, 0.0, 1.0)
+
+
+def lean_block(layouts, table):
+    """Per layout (each one ``lean_spot_path`` covers, all with one spot), the runs
+    (``SensorRun``) and the groups' peak blocked fractions of ``sensing.sensed_scan``, and
+    nothing else it computes (the line beam's wafer intervals, warnings, the slot map): the
+    same steps in the same order, the groups of one wafer built from ``table`` over arrays
+    (``_table_strips``) and every group's b at its steps in one evaluation for the block."""
     import numpy as np
 
     from .amplifier import stepped_output
     from .scan_result import SensorRun
     from .sensing import _latcher, _strokes
-    from .spot import DEFAULT_AMPLIFIER, BlockedFraction, wafer_groups
+    from .spot import DEFAULT_AMPLIFIER, BlockedFraction
 
-    scan = layout.scan
-    spot = layout.spot
-    amplifier = layout.amplifier or DEFAULT_AMPLIFIER
-    moving = _strokes(scan)
-    beam, axis = layout.beam, layout.lift_axis
-    z0 = beam.emitter[2]
-    az = axis[2]
-    low, high = scan.start_z, scan.final_z
-    on_level, off_level = amplifier.threshold_on, amplifier.off_level
-    candidates = layout.wafers
-    groups = wafer_groups(layout, candidates, spot)
-    beta = spot_module.spot_frame(beam.direction, axis)[3]
-    positions = spot_module._column_positions(spot, spot_module.COLUMNS)
-    middles = column_offsets(spot)[spot_module.COLUMNS + 1:]
-    b_id = id(beam)
-    fractions, spans, names = [], [], []
-    for members, ranges, (tau_lo, tau_hi) in groups:
-        wafers = [candidates[i] for i in members]
-        pieces = None
-        entry = table.get((id(wafers[0]), b_id)) if len(wafers) == 1 else None
-        if entry is not None:
-            middle_ranges = entry[1][spot_module.COLUMNS + 1:]
-            if MISSING not in middle_ranges:
-                pieces = _single_wafer_strips(spot, positions, middles, ranges[0],
-                                              middle_ranges)
-        if pieces:
-            fraction = _Strips(spot, beta, pieces)
-        else:
-            fraction = BlockedFraction(layout, wafers, spot, ranges)
-        z_lo, z_hi = z0 + tau_lo * az, z0 + tau_hi * az
-        names.append(tuple(w.name for w in wafers))
-        fractions.append(fraction)
-        spans.append((max(z_lo, low), min(z_hi, high)))
-    peaks = [0.0] * len(fractions)
-    out = {up: [] for up in moving}
-    if fractions:
-        together = (RoundSpotFraction if spot.round else spot_module.GroupedFraction)(fractions)
-        steps, owners = [], []
-        for g, (lo, hi) in enumerate(spans):
+    if not layouts:
+        return []
+    spot = layouts[0].spot
+    columns = spot_module.COLUMNS
+    positions = spot_module._column_positions(spot, columns)
+    middles = column_offsets(spot)[columns + 1:]
+    fraction = _BlockFraction(spot)
+    plans = []  # per layout: (groups as (names, z span), group indices in ``fraction``)
+    singles = []  # (layout, group, beta, the wafer's ranges at column_offsets)
+    for li, layout in enumerate(layouts):
+        beam, axis = layout.beam, layout.lift_axis
+        if layout.spot != spot:
+            raise ValueError("lean_block: the layouts must share one beam spot")
+        z0, az = beam.emitter[2], axis[2]
+        beta = spot_module.spot_frame(beam.direction, axis)[3]
+        b_id = id(beam)
+        low, high = layout.scan.start_z, layout.scan.final_z
+        groups = []
+        for members, ranges, (tau_lo, tau_hi) in _groups(layout, spot, table):
+            wafers = [layout.wafers[i] for i in members]
+            entry = table.get((id(wafers[0]), b_id)) if len(wafers) == 1 else None
+            index = None
+            if entry is not None and MISSING not in entry[1]:
+                singles.append((li, len(groups), beta, entry[1]))
+            else:
+                f = BlockedFraction(layout, wafers, spot, ranges)
+                index = fraction.add(beta, [getattr(f, name) for name in _BlockFraction.FIELDS])
+            z_lo, z_hi = z0 + tau_lo * az, z0 + tau_hi * az
+            groups.append([tuple(w.name for w in wafers), (max(z_lo, low), min(z_hi, high)),
+                           index])
+        plans.append(groups)
+    if singles:
+        pieces, (sa, sb, l0, r0, l1, r1) = _table_strips(spot, [row for *_, row in singles])
+        simple = [i for i, p in enumerate(pieces) if p is not None]
+        by_width = {}
+        for i in simple:
+            by_width.setdefault(int(pieces[i].sum()), []).append(i)
+        for width, members in by_width.items():
+            mask = np.array([pieces[i] for i in members])
+            idx = np.array(members)
+            fields = [np.broadcast_to(sa, mask.shape)[mask], np.broadcast_to(sb, mask.shape)[mask],
+                      l0[idx][mask], r0[idx][mask], l1[idx][mask], r1[idx][mask]]
+            fields = [x.reshape(len(members), width) for x in fields]
+            indices = fraction.add_many([singles[i][2] for i in members], fields)
+            for i, g in zip(members, indices):
+                li, gi = singles[i][0], singles[i][1]
+                plans[li][gi][2] = g
+        for i, p in enumerate(pieces):
+            if p is not None:
+                continue
+            li, gi, beta, row = singles[i]
+            strips = _single_wafer_strips(spot, positions, middles, row[:columns + 1],
+                                          row[columns + 1:])
+            if strips is None:
+                layout = layouts[li]
+                name = plans[li][gi][0][0]
+                wafer = next(w for w in layout.wafers if w.name == name)
+                f = BlockedFraction(layout, [wafer], spot, [list(row[:columns + 1])])
+                fields = [getattr(f, name) for name in _BlockFraction.FIELDS]
+            else:
+                data = np.array(strips, dtype=float).reshape(-1, 6)
+                fields = [data[:, j] for j in range(6)]
+            plans[li][gi][2] = fraction.add(beta, fields)
+    # Every group's steps, b at them in one evaluation.
+    taus, owners, steps = [], [], []
+    for layout, groups in zip(layouts, plans):
+        scan = layout.scan
+        z0, az = layout.beam.emitter[2], layout.lift_axis[2]
+        mine = []
+        for names, (lo, hi), g in groups:
             k_lo = max(0, math.ceil((lo - scan.start_z) / scan.z_step))
             k_hi = min(scan.last_step, math.floor((hi - scan.start_z) / scan.z_step))
-            steps.append(scan.position(np.arange(k_lo, k_hi + 1, dtype=float)))
-            owners.append(np.full(len(steps[-1]), g))
-        z_all = np.concatenate(steps)
-        values_all = together((z_all - z0) / az, np.concatenate(owners)) if z_all.size \
-            else z_all
-        offset = 0
-        for g, z in enumerate(steps):
+            z = scan.position(np.arange(k_lo, k_hi + 1, dtype=float))
+            mine.append(z)
+            taus.append((z - z0) / az)
+            owners.append(np.full(len(z), g))
+        steps.append(mine)
+    values_all = fraction.evaluate(np.concatenate(taus), np.concatenate(owners)) if taus \
+        else np.zeros(0)
+    answers = []
+    offset = 0
+    for layout, groups, mine in zip(layouts, plans, steps):
+        scan = layout.scan
+        amplifier = layout.amplifier or DEFAULT_AMPLIFIER
+        on_level, off_level = amplifier.threshold_on, amplifier.off_level
+        moving = _strokes(scan)
+        out = {up: [] for up in moving}
+        peaks = [0.0] * len(groups)
+        for g, ((names, _, _), z) in enumerate(zip(groups, mine)):
             values = values_all[offset:offset + len(z)]
             offset += len(z)
             if not len(z):
@@ -446,25 +644,27 @@ def spot_runs(layout, table):
             peaks[g] = float(values.max())
             for up in moving:
                 for first, last in stepped_output(values, on_level, off_level, up):
-                    out[up].append((float(z[first]), float(z[last]), names[g]))
-    for up in moving:
-        out[up].sort()
-    # sensed_scan's runs.
-    latched = {}
-    for up in moving:
-        at = _latcher(scan, up)
-        latched[up] = [(at(a), at(b)) if up else (at(b), at(a)) for a, b, _ in out[up]]
-    runs = []
-    if len(moving) == 2 and len(out[True]) == len(out[False]) and all(
-            u[0] <= d[1] and d[0] <= u[1] for u, d in zip(out[True], out[False])):
-        for (a, b, group), (in_u, out_u), (in_d, out_d) in zip(out[True], latched[True],
-                                                               latched[False]):
-            runs.append(SensorRun(0.5 * (in_u + out_d), 0.5 * (out_u + in_d), group, (a, b)))
-    else:
-        first = moving[0]
-        for (a, b, group), (z_in, z_out) in zip(out[first], latched[first]):
-            runs.append(SensorRun(z_in, z_out, group, (a, b)))
-    return runs, peaks
+                    out[up].append((float(z[first]), float(z[last]), names))
+        for up in moving:
+            out[up].sort()
+        # sensed_scan's runs.
+        latched = {}
+        for up in moving:
+            at = _latcher(scan, up)
+            latched[up] = [(at(a), at(b)) if up else (at(b), at(a)) for a, b, _ in out[up]]
+        runs = []
+        if len(moving) == 2 and len(out[True]) == len(out[False]) and all(
+                u[0] <= d[1] and d[0] <= u[1] for u, d in zip(out[True], out[False])):
+            for (a, b, names), (in_u, out_u), (in_d, out_d) in zip(out[True], latched[True],
+                                                                   latched[False]):
+                runs.append(SensorRun(0.5 * (in_u + out_d), 0.5 * (out_u + in_d), names,
+                                      (a, b)))
+        else:
+            first = moving[0]
+            for (a, b, names), (z_in, z_out) in zip(out[first], latched[first]):
+                runs.append(SensorRun(z_in, z_out, names, (a, b)))
+        answers.append((runs, peaks))
+    return answers
 
 
 def states_of_runs(base, layout, runs):
