@@ -275,3 +275,22 @@ def scan_layout_runs(layout):
     from waferscan.core.scan import scan_layout
 
     return scan_layout(layout).runs
+
+
+def test_spot_block_equals_the_scalar_path_with_a_level_beam():
+    """A level beam over level wafers: every strip's limits are the faces', each strip's piece
+    continues the one before (BlockedFraction merges them into one), built strip by strip;
+    tilted wafers beside them take the conic's corners."""
+    level = "\n".join(line for line in TILTED.split("[beam_tilt]")[0].splitlines()) + """
+[states]
+present = 0.6
+empty = 0.1
+cross = 0.1
+double = 0.1
+thin = 0.1
+"""
+    tolerances = parse_tolerances(level)
+    assert "beam_tilt" not in tolerances.quantities
+    _, draws, fast, slow = block_pair(spot_paper(), tolerances, 21, 120)
+    assert np.all(draws.direction == draws.direction[0])
+    assert_same(fast, slow)
