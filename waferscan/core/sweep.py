@@ -17,9 +17,12 @@ at once (layouts x wafers), not as N scans in a Python loop:
 - the mapping, by either rule set, scattered per slot with the worst finding kept.
 
 A beam spot, latching in motion or exact edges (z_step = 0) take the scalar path layout by
-layout (``scalar_block``): slower, the same answers by construction. With a beam spot the
-block's column ranges are worked out over arrays first (core/sweep_spot.py), bit for bit the
-floats the scalar spot engine would compute, which then finds them instead of computing them.
+layout (``scalar_block``): slower, the same answers by construction. A beam spot read on the
+step grid goes through core/sweep_spot.py instead: the spot's column ranges of the whole block
+over arrays, bit for bit the floats the scalar spot engine computes, then its strips and its
+blocked fraction at every step for the whole block at once, the same floats again, and the
+runs, latching and mapping layout by layout as the scalar path does them (tests hold every
+state, reading and peak equal to the scalar path's).
 
 Reproducibility: layouts are drawn in blocks of ``BLOCK_SIZE``; block b's generator is
 SeedSequence(seed, spawn_key=(b,)). The samples depend only on the seed and N, whatever the

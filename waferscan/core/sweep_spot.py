@@ -13,8 +13,17 @@ wafer, a level wafer's closed form, the degenerate rims, a pair of lines on the 
 
 The precomputed ranges are handed to core/spot.py as a table keyed by the wafer and the
 column's offset (``spot.precomputed_ranges``): a range the table lacks (a strip halved beyond
-its middle column, an uncovered wafer) the spot engine computes itself. The answers are the
-scalar path's by construction: the table holds only the same floats it would have computed.
+its middle column, an uncovered wafer) the spot engine computes itself.
+
+A scan read on the step grid (``lean_spot_path``) then goes through ``lean_block`` for the
+whole block: the groups of wafers as ``spot.wafer_groups`` forms them; a group of one wafer's
+strips straight from the table over arrays where no strip needs halving and no piece continues
+the one before it (else ``BlockedFraction``'s own search); the blocked fraction of every group
+of every layout at its steps in one chunked evaluation (a round spot's area without the sort,
+the same floats); then per layout the amplifier's output, the latching and the up/down runs as
+``sensing.sensed_scan`` makes them, and the recipe's mapping. Nothing else of ``scan_layout``
+(the line beam's intervals, the warnings) is computed. Same answers as the scalar path:
+tests/core/test_sweep_spot.py compares states, readings and every group's peak exactly.
 """
 
 from __future__ import annotations
@@ -27,8 +36,8 @@ from .model import SLOW as SLOW_MODE
 # Where |det| of two boundary lines lies within this relative distance of _solve_lines's
 # parallel test (1e-14 * the lines' norms, with math.hypot) the scalar function decides.
 _EDGE_OF_PARALLEL = 1e-9
-# Translations evaluated at once by _BlockFraction (x the strips: ~50,000 floats an array).
-_CHUNK = 2000
+# Translations evaluated at once by _BlockFraction (x the strips: ~25,000 floats an array).
+_CHUNK = 1000
 # A range the table leaves to the scalar function.
 MISSING = spot_module._MISSING
 
