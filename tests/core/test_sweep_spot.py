@@ -133,11 +133,11 @@ def test_range_table_holds_the_spot_engines_own_column_ranges():
         u = spot_module.spot_frame(layout.beam.direction, layout.lift_axis)[0]
         ox, oy, oz = layout.beam.emitter
         for wafer, columns in zip(layout.wafers, ranges):
-            by_offset, in_order = table[(id(wafer), id(layout.beam))]
-            for s, listed in zip(offsets, in_order):
+            index, in_order = table[(id(wafer), id(layout.beam))]
+            for j, (s, listed) in enumerate(zip(offsets, in_order)):
                 expected = translation_range((ox + s * u[0], oy + s * u[1], oz + s * u[2]),
                                              layout.beam, layout.lift_axis, wafer, tol=0.0)
-                assert by_offset[s] == listed == expected
+                assert index[s] == j and listed == expected
                 found += expected is not None
             assert columns == in_order[:spot_module.COLUMNS + 1]
     assert found > 1000

@@ -144,8 +144,8 @@ def _merged(intervals):
 
 
 # A sweep's centre-ray ranges worked out beforehand over arrays (core/sweep_spot.py):
-# {(id(wafer), id(beam)): ({s: range}, ...)}, the same floats ``translation_range`` gives;
-# None: none.
+# {(id(wafer), id(beam)): ({s: j}, [range j, or _MISSING where not worked out])}, the same
+# floats ``translation_range`` gives; None: none.
 _PRECOMPUTED = None
 _MISSING = object()
 
@@ -174,9 +174,9 @@ def _centre_ray_range(s, u, beam, axis, wafer):
     if table is not None:
         entry = table.get((id(wafer), id(beam)))
         if entry is not None:
-            found = entry[0].get(s, _MISSING)
-            if found is not _MISSING:
-                return found
+            j = entry[0].get(s)
+            if j is not None and entry[1][j] is not _MISSING:
+                return entry[1][j]
     ox, oy, oz = beam.emitter
     return translation_range((ox + s * u[0], oy + s * u[1], oz + s * u[2]), beam, axis, wafer,
                              tol=0.0)

@@ -38,6 +38,8 @@ from .model import SLOW as SLOW_MODE
 _EDGE_OF_PARALLEL = 1e-9
 # Translations evaluated at once by _BlockFraction (x the strips: ~25,000 floats an array).
 _CHUNK = 1000
+# Column ranges computed at once by range_table.
+_RANGE_CHUNK = 8192
 # A range the table leaves to the scalar function.
 MISSING = spot_module._MISSING
 
@@ -128,8 +130,16 @@ def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):
         lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
     edge = np.zeros(wn.shape, dtype=bool)
     candidates = []
+    # The lines come in pairs of one direction (the beam's ends, the faces, the rim's two):
+    # such a pair's det is a product less itself, exactly 0, never a corner. A beam's end and
+    # the rim's line are parallel too where gu = 0 (a level wafer lifted along its axis).
+    family = (0, 0, 1, 1, 2, 2)
+    rim_along_beam = rim is not None and not np.any(rim[1])
     for i, (a1, b1, c1) in enumerate(lines):
-        for a2, b2, c2 in lines[i + 1:]:
+        for j in range(i + 1, len(lines)):
+            if family[i] == family[j] or (rim_along_beam and family[i] == 0 and family[j] == 2):
+                continue
+            a2, b2, c2 = lines[j]
             # _solve_lines
             det = a1 * b2 - a2 * b1
             scale = np.hypot(a1, b1) * np.hypot(a2, b2)
@@ -182,8 +192,8 @@ def column_offsets(spot, columns=spot_module.COLUMNS):
 def range_table(layouts, spot, columns=spot_module.COLUMNS):
     """The centre-ray ranges (tol 0) of every flat wafer of ``layouts`` (each with its own
     beam, the same lift axis and emitter) at ``column_offsets``: {(id(wafer), id(beam)):
-    ({s: (lo, hi) or None}, [the same in the offsets' order])}, only the ranges the array
-    formulas cover bit for bit (in the list the others are ``MISSING``)."""
+    ({s: its place in the list}, [(lo, hi) or None, in the offsets' order])}; the ranges the
+    array formulas do not cover bit for bit are ``MISSING`` in the list."""
     import numpy as np
 
     offsets = column_offsets(spot, columns)
@@ -217,16 +227,22 @@ def range_table(layouts, spot, columns=spot_module.COLUMNS):
     lengths = {beam.length for _, beam, _ in rows}
     if len(lengths) != 1:
         raise ValueError("range_table: the layouts' beams must be of one length")
-    lo, hi, hit, covered = translation_ranges(emitter, direction, axis, center, normal, radius,
-                                              thickness, lengths.pop(), 0.0)
-    values = [(a, b) if h else None if c else MISSING
-              for a, b, h, c in zip(lo.tolist(), hi.tolist(), hit.tolist(), covered.tolist())]
+    length = lengths.pop()
+    parts = []
+    # In chunks that stay in the cache (~30 arrays deep); each element is its own.
+    for a in range(0, n * k, _RANGE_CHUNK):
+        b = a + _RANGE_CHUNK
+        parts.append(translation_ranges(emitter[a:b], direction[a:b], axis, center[a:b],
+                                        normal[a:b], radius[a:b], thickness[a:b], length, 0.0))
+    lo, hi, hit, covered = (np.concatenate(x) for x in zip(*parts))
+    values = list(zip(lo.tolist(), hi.tolist()))
+    for j in np.flatnonzero(~hit).tolist():
+        values[j] = None
+    for j in np.flatnonzero(~covered).tolist():
+        values[j] = MISSING
+    index = {offset: j for j, offset in enumerate(offsets)}
     for j, (wafer, beam, _) in enumerate(rows):
-        mine = values[j * k:(j + 1) * k]
-        by_offset = dict(zip(offsets, mine))
-        if MISSING in mine:
-            by_offset = {s: v for s, v in by_offset.items() if v is not MISSING}
-        table[(id(wafer), id(beam))] = (by_offset, mine)
+        table[(id(wafer), id(beam))] = (index, values[j * k:(j + 1) * k])
     return table
 
 
