@@ -294,3 +294,31 @@ thin = 0.1
     _, draws, fast, slow = block_pair(spot_paper(), tolerances, 21, 120)
     assert np.all(draws.direction == draws.direction[0])
     assert_same(fast, slow)
+
+
+@pytest.mark.parametrize("shape", [BeamSpot(diameter=1.0), BeamSpot(width=2.0, height=0.6)])
+def test_block_fraction_is_grouped_fraction_bit_for_bit(shape):
+    """The block's one evaluation of every group of several layouts (each with its own beta)
+    against spot.GroupedFraction of each layout alone."""
+    base = sweep.sweep_base(replace(read_scenario(PAPER), spot=shape))
+    draws = sweep.draw_block(base, parse_tolerances(TILTED), 13, 0, 12)
+    rng = np.random.default_rng(5)
+    block = sweep_spot._BlockFraction(shape)
+    taus, owners, expected = [], [], []
+    for i in range(12):
+        layout = sweep.sample_layout(base, draws, i)
+        beta = spot_module.spot_frame(layout.beam.direction, layout.lift_axis)[3]
+        groups = spot_module.wafer_groups(layout, layout.wafers, shape)
+        fractions = [spot_module.BlockedFraction(layout, [layout.wafers[j] for j in members],
+                                                 shape, ranges)
+                     for members, ranges, _ in groups]
+        index = [block.add(beta, [getattr(f, n) for n in block.FIELDS]) for f in fractions]
+        tau = np.concatenate([rng.uniform(lo - 0.3, hi + 0.3, 40) for _, _, (lo, hi) in groups])
+        local = np.repeat(np.arange(len(groups)), 40)
+        expected.append(spot_module.GroupedFraction(fractions)(tau, local))
+        taus.append(tau)
+        owners.append(np.array(index)[local])
+    got = block.evaluate(np.concatenate(taus), np.concatenate(owners))
+    want = np.concatenate(expected)
+    assert np.array_equal(got, want)
+    assert ((want > 0.0) & (want < 1.0)).sum() > 3000
