@@ -285,7 +285,10 @@ def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
     circle at s1 <= s2, clipped into [sa, sb], so the four break points are already in order
     (sa, s1, s2, sb) and need no sort (no -0.0 among them: a strip's ends are +0.0 or not zero,
     and the roots' zeros are +0.0); the circle's primitive at sa and sb is the strip's own
-    (``primitive_a``, ``primitive_b``, computed once per strip, not once per translation)."""
+    (``primitive_a``, ``primitive_b``, computed once per strip, not once per translation).
+    Where the line misses the circle (disc <= 0, s1 = s2 = sa) the first two segments are
+    empty, each term a zero, and the sum is 0.0 plus the whole strip's term: only that is
+    computed there."""
     import numpy as np
 
     width = sb - sa
@@ -295,15 +298,27 @@ def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
     qa = 1.0 + m * m
     qb = m * k
     disc = qb * qb - qa * (k * k - r * r)
-    root = np.sqrt(np.maximum(disc, 0.0))
-    s1 = np.where(disc > 0.0, (-qb - root) / qa, sa)
-    s2 = np.where(disc > 0.0, (-qb + root) / qa, sa)
-    c1, c2 = np.clip(s1, sa, sb), np.clip(s2, sa, sb)
     shape = k.shape
-    pts = (np.broadcast_to(sa, shape), c1, c2, np.broadcast_to(sb, shape))
-    prim = (np.broadcast_to(primitive_a, shape), spot_module._circle_primitive(c1, r),
-            spot_module._circle_primitive(c2, r), np.broadcast_to(primitive_b, shape))
+    sa, sb = np.broadcast_to(sa, shape), np.broadcast_to(sb, shape)
+    pa, pb = np.broadcast_to(primitive_a, shape), np.broadcast_to(primitive_b, shape)
+    # The whole strip, segment (sa, sb): the answer where the line misses the circle.
+    mid_s = 0.5 * (sa + sb)
+    mid = m * mid_s + k
+    c_mid = np.sqrt(np.maximum(r * r - mid_s * mid_s, 0.0))
+    arc = pb - pa
+    linear = 0.5 * m * (sb * sb - sa * sa) + k * (sb - sa)
     total = np.zeros(shape)
+    total += np.where(mid >= c_mid, arc, np.where(mid <= -c_mid, -arc, linear))
+    at = np.flatnonzero(disc > 0.0)
+    if not len(at):
+        return total
+    m, k, qa, qb, disc = (x.reshape(-1)[at] for x in (m, k, qa, qb, disc))
+    sa, sb, pa, pb = (x.reshape(-1)[at] for x in (sa, sb, pa, pb))
+    root = np.sqrt(np.maximum(disc, 0.0))
+    c1, c2 = np.clip((-qb - root) / qa, sa, sb), np.clip((-qb + root) / qa, sa, sb)
+    pts = (sa, c1, c2, sb)
+    prim = (pa, spot_module._circle_primitive(c1, r), spot_module._circle_primitive(c2, r), pb)
+    crossing = np.zeros(len(at))
     for j in range(3):
         a, bnd = pts[j], pts[j + 1]
         mid_s = 0.5 * (a + bnd)
@@ -311,7 +326,8 @@ def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
         c_mid = np.sqrt(np.maximum(r * r - mid_s * mid_s, 0.0))
         arc = prim[j + 1] - prim[j]
         linear = 0.5 * m * (bnd * bnd - a * a) + k * (bnd - a)
-        total += np.where(mid >= c_mid, arc, np.where(mid <= -c_mid, -arc, linear))
+        crossing += np.where(mid >= c_mid, arc, np.where(mid <= -c_mid, -arc, linear))
+    total.reshape(-1)[at] = crossing
     return total
 
 
