@@ -147,7 +147,7 @@ def block_pair(layout, tolerances, seed, count, rules=None):
     base = sweep.sweep_base(layout, rules=rules)
     draws = sweep.draw_block(base, tolerances, seed, 0, count)
     fast_peaks, slow_peaks = [], []
-    fast = sweep_spot.spot_block(base, draws, fast_peaks)
+    fast = sweep.spot_block(base, draws, fast_peaks)
     slow = sweep.scalar_block(base, draws, slow_peaks)
     return base, draws, (fast, fast_peaks), (slow, slow_peaks)
 
@@ -173,7 +173,7 @@ def test_spot_block_equals_the_scalar_path_with_a_tilted_beam(rules, monkeypatch
                                          rules)
     scalar_calls = len(calls)
     calls.clear()
-    sweep_spot.spot_block(base, draws)
+    sweep.spot_block(base, draws)
     # The table answered (nearly) every column: the array path is what ran.
     assert len(calls) < 0.01 * scalar_calls
     assert_same(fast, slow)

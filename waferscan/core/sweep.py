@@ -402,6 +402,65 @@ def scalar_block(base, draws, peaks=None):
     return states, thickness, bottom
 
 
+def spot_block(base, draws, peaks=None):
+    """``scalar_block``'s answer (states, thickness, bottom; ``peaks`` as there) for a layout
+    with a beam spot (core/sweep_spot.py): the block's column ranges over arrays first
+    (``range_table``); the layouts read per step in a fast scan through ``lean_block``, the
+    others through the scalar path, which finds the ranges there. The same answers as
+    ``scalar_block``, bit for bit (tests/core/test_sweep_spot.py)."""
+    import numpy as np
+
+    from . import spot as spot_module
+    from .sweep_spot import lean_block, lean_spot_path, range_table
+
+    layout = base.layout
+    spot = layout.spot
+    m, S = draws.truth.shape
+    layouts = [sample_layout(base, draws, i) for i in range(m)]
+    table = range_table(layouts, spot) if spot is not None and not spot.ideal else {}
+    states = np.zeros((m, S), dtype=np.int8)
+    thickness = np.full((m, S), np.nan)
+    bottom = np.full((m, S), np.nan)
+    with spot_module.precomputed_ranges(table):
+        lean = [i for i, sample in enumerate(layouts) if lean_spot_path(sample)]
+        answers = dict(zip(lean, lean_block([layouts[i] for i in lean], table)))
+        for i, sample in enumerate(layouts):
+            if i in answers:
+                runs, group_peaks = answers[i]
+                if peaks is not None:
+                    peaks.extend(group_peaks)
+                st, th, bo = states_of_runs(base, sample, runs)
+            else:
+                st, th, bo = scalar_layout_states(base, sample, peaks)
+            states[i] = st
+            thickness[i] = [np.nan if v is None else v for v in th]
+            bottom[i] = [np.nan if v is None else v for v in bo]
+    return states, thickness, bottom
+
+
+def states_of_runs(base, layout, runs):
+    """``scalar_layout_states``'s answer from the scan's runs (``SensorRun``s): the
+    recipe's mapping, the first run's thickness and bottom per slot."""
+    from .mapping import unscanned_slots
+    from .scan_result import protruding_slots
+
+    plan = base.plan
+    flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
+    unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
+    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    states, thickness, bottom = [], [], []
+    for slot in slot_map.slots:
+        states.append(UNSCANNED if slot.state == mapping.UNSCANNED else slot.state)
+        if slot.runs:
+            run = runs[slot.runs[0]]
+            thickness.append(run.diff)
+            bottom.append(run.bottom)
+        else:
+            thickness.append(None)
+            bottom.append(None)
+    return states, thickness, bottom
+
+
 def needs_scalar_path(layout):
     """A beam spot, latching in motion, a slow scan's jab or sweep, or exact edges: the layout
     is scanned by the scalar path, one layout at a time."""
@@ -901,8 +960,6 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
         states, thickness, bottom = scalar_block(base, draws, peaks)
     elif spot is not None and not spot.ideal:
         # The spot's column ranges over arrays, then the scalar spot engine: the same answers.
-        from .sweep_spot import spot_block
-
         states, thickness, bottom = spot_block(base, draws, peaks)
     elif needs_scalar_path(base.layout):
         states, thickness, bottom = scalar_block(base, draws, peaks)

@@ -1,6 +1,8 @@
-"""A sweep with a beam spot (SPEC §12 with §10): the spot's column ranges of a whole block of
-sampled layouts in numpy, then each layout through the scalar spot engine (core/sensing.py),
-which finds them precomputed instead of computing them one ``translation_range`` at a time.
+"""A sweep with a beam spot (SPEC §12 with §10; ``sweep.spot_block`` runs a block): the
+spot's column ranges of a whole block of sampled layouts in numpy, then the blocked fraction
+of the whole block at once (``lean_block``), or each layout through the scalar spot engine
+(core/sensing.py), which finds the ranges precomputed instead of computing them one
+``translation_range`` at a time.
 
 With a tilted beam every column of the spot (and every strip's middle column, where the spot
 engine checks its limits are linear) is a general ``translation_range``: the corners of a
@@ -244,40 +246,6 @@ def range_table(layouts, spot, columns=spot_module.COLUMNS):
     for j, (wafer, beam, _) in enumerate(rows):
         table[(id(wafer), id(beam))] = (index, values[j * k:(j + 1) * k])
     return table
-
-
-def spot_block(base, draws, peaks=None):
-    """``sweep.scalar_block``'s answer (states, thickness, bottom; ``peaks`` as there) for a
-    layout with a beam spot: the block's column ranges over arrays first (``range_table``),
-    then each layout through the scalar path, which finds them there. The same answers as
-    ``scalar_block``, bit for bit."""
-    import numpy as np
-
-    from .sweep import sample_layout, scalar_layout_states
-
-    layout = base.layout
-    spot = layout.spot
-    m, S = draws.truth.shape
-    layouts = [sample_layout(base, draws, i) for i in range(m)]
-    table = range_table(layouts, spot) if spot is not None and not spot.ideal else {}
-    states = np.zeros((m, S), dtype=np.int8)
-    thickness = np.full((m, S), np.nan)
-    bottom = np.full((m, S), np.nan)
-    with spot_module.precomputed_ranges(table):
-        lean = [i for i, sample in enumerate(layouts) if lean_spot_path(sample)]
-        answers = dict(zip(lean, lean_block([layouts[i] for i in lean], table)))
-        for i, sample in enumerate(layouts):
-            if i in answers:
-                runs, group_peaks = answers[i]
-                if peaks is not None:
-                    peaks.extend(group_peaks)
-                st, th, bo = states_of_runs(base, sample, runs)
-            else:
-                st, th, bo = scalar_layout_states(base, sample, peaks)
-            states[i] = st
-            thickness[i] = [np.nan if v is None else v for v in th]
-            bottom[i] = [np.nan if v is None else v for v in bo]
-    return states, thickness, bottom
 
 
 def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
@@ -706,28 +674,3 @@ def lean_block(layouts, table):
                 runs.append(SensorRun(z_in, z_out, names, (a, b)))
         answers.append((runs, peaks))
     return answers
-
-
-def states_of_runs(base, layout, runs):
-    """``sweep.scalar_layout_states``'s answer from the scan's runs (``SensorRun``s): the
-    recipe's mapping, the first run's thickness and bottom per slot."""
-    from . import mapping
-    from .mapping import map_slots, unscanned_slots
-    from .scan_result import protruding_slots
-    from .sweep import UNSCANNED
-
-    plan = base.plan
-    flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
-    unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
-    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
-    states, thickness, bottom = [], [], []
-    for slot in slot_map.slots:
-        states.append(UNSCANNED if slot.state == mapping.UNSCANNED else slot.state)
-        if slot.runs:
-            run = runs[slot.runs[0]]
-            thickness.append(run.diff)
-            bottom.append(run.bottom)
-        else:
-            thickness.append(None)
-            bottom.append(None)
-    return states, thickness, bottom
