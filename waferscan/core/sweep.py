@@ -959,7 +959,7 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
     if scalar:
         states, thickness, bottom = scalar_block(base, draws, peaks)
     elif spot is not None and not spot.ideal:
-        # The spot's column ranges over arrays, then the scalar spot engine: the same answers.
+        # The block at once (core/sweep_spot.py): the scalar path's answers, bit for bit.
         states, thickness, bottom = spot_block(base, draws, peaks)
     elif needs_scalar_path(base.layout):
         states, thickness, bottom = scalar_block(base, draws, peaks)
