@@ -143,15 +143,51 @@ def _merged(intervals):
     return out
 
 
+# A sweep's centre-ray ranges worked out beforehand over arrays (core/sweep_spot.py):
+# {(id(wafer), id(beam)): ({s: j}, [range j, or _MISSING where not worked out])}, the same
+# floats ``translation_range`` gives; None: none.
+_PRECOMPUTED = None
+_MISSING = object()
+
+
+class precomputed_ranges:
+    """Context: while it lasts, the spot's column ranges are looked up in ``table`` (built by
+    ``sweep_spot.range_table`` for wafers and beams that outlive it) before being computed."""
+
+    def __init__(self, table):
+        self.table = table
+
+    def __enter__(self):
+        global _PRECOMPUTED
+        self.before, _PRECOMPUTED = _PRECOMPUTED, self.table
+        return self.table
+
+    def __exit__(self, *exc):
+        global _PRECOMPUTED
+        _PRECOMPUTED = self.before
+        return False
+
+
+def _centre_ray_range(s, u, beam, axis, wafer):
+    """``translation_range`` (tol 0) of the centre ray of the spot's column at offset s."""
+    table = _PRECOMPUTED
+    if table is not None:
+        entry = table.get((id(wafer), id(beam)))
+        if entry is not None:
+            j = entry[0].get(s)
+            if j is not None and entry[1][j] is not _MISSING:
+                return entry[1][j]
+    ox, oy, oz = beam.emitter
+    return translation_range((ox + s * u[0], oy + s * u[1], oz + s * u[2]), beam, axis, wafer,
+                             tol=0.0)
+
+
 def column_ranges(layout, wafer, spot, columns=COLUMNS):
     """For each column of the spot (``_column_positions``), the exact range (tau_lo, tau_hi) of
     lift translations over which the column's centre ray meets the wafer, or None."""
     beam, axis = layout.beam, layout.lift_axis
     u = spot_frame(beam.direction, axis)[0]
-    ox, oy, oz = beam.emitter
-    return [translation_range((ox + s * u[0], oy + s * u[1], oz + s * u[2]), beam, axis, wafer,
-                              tol=0.0)
-            for s in _column_positions(spot, columns)]
+    return [_centre_ray_range(s, u, beam, axis, wafer) for s in _column_positions(spot, columns)]
 
 
 class BlockedFraction:
@@ -172,11 +208,9 @@ class BlockedFraction:
         positions = _column_positions(spot, columns)
         at_nodes = [_merged([r[i] for r in ranges if r[i] is not None])
                     for i in range(columns + 1)]
-        ox, oy, oz = beam.emitter
 
         def at(s):
-            emitter = (ox + s * u[0], oy + s * u[1], oz + s * u[2])
-            spans = (translation_range(emitter, beam, axis, w, tol=0.0) for w in wafers)
+            spans = (_centre_ray_range(s, u, beam, axis, w) for w in wafers)
             return _merged([x for x in spans if x is not None])
 
         pieces = []  # (sa, sb, lo_a, lo_b, hi_a, hi_b)

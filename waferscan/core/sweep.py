@@ -17,7 +17,12 @@ at once (layouts x wafers), not as N scans in a Python loop:
 - the mapping, by either rule set, scattered per slot with the worst finding kept.
 
 A beam spot, latching in motion or exact edges (z_step = 0) take the scalar path layout by
-layout (``scalar_block``): slower, the same answers by construction.
+layout (``scalar_block``): slower, the same answers by construction. A beam spot read on the
+step grid goes through core/sweep_spot.py instead: the spot's column ranges of the whole block
+over arrays, bit for bit the floats the scalar spot engine computes, then its strips and its
+blocked fraction at every step for the whole block at once, the same floats again, and the
+runs, latching and mapping layout by layout as the scalar path does them (tests hold every
+state, reading and peak equal to the scalar path's).
 
 Reproducibility: layouts are drawn in blocks of ``BLOCK_SIZE``; block b's generator is
 SeedSequence(seed, spawn_key=(b,)). The samples depend only on the seed and N, whatever the
@@ -394,6 +399,65 @@ def scalar_block(base, draws, peaks=None):
         states[i] = st
         thickness[i] = [np.nan if v is None else v for v in th]
         bottom[i] = [np.nan if v is None else v for v in bo]
+    return states, thickness, bottom
+
+
+def spot_block(base, draws, peaks=None):
+    """``scalar_block``'s answer (states, thickness, bottom; ``peaks`` as there) for a layout
+    with a beam spot (core/sweep_spot.py): the block's column ranges over arrays first
+    (``range_table``); the layouts read per step in a fast scan through ``lean_block``, the
+    others through the scalar path, which finds the ranges there. The same answers as
+    ``scalar_block``, bit for bit (tests/core/test_sweep_spot.py)."""
+    import numpy as np
+
+    from . import spot as spot_module
+    from .sweep_spot import lean_block, lean_spot_path, range_table
+
+    layout = base.layout
+    spot = layout.spot
+    m, S = draws.truth.shape
+    layouts = [sample_layout(base, draws, i) for i in range(m)]
+    table = range_table(layouts, spot) if spot is not None and not spot.ideal else {}
+    states = np.zeros((m, S), dtype=np.int8)
+    thickness = np.full((m, S), np.nan)
+    bottom = np.full((m, S), np.nan)
+    with spot_module.precomputed_ranges(table):
+        lean = [i for i, sample in enumerate(layouts) if lean_spot_path(sample)]
+        answers = dict(zip(lean, lean_block([layouts[i] for i in lean], table)))
+        for i, sample in enumerate(layouts):
+            if i in answers:
+                runs, group_peaks = answers[i]
+                if peaks is not None:
+                    peaks.extend(group_peaks)
+                st, th, bo = states_of_runs(base, sample, runs)
+            else:
+                st, th, bo = scalar_layout_states(base, sample, peaks)
+            states[i] = st
+            thickness[i] = [np.nan if v is None else v for v in th]
+            bottom[i] = [np.nan if v is None else v for v in bo]
+    return states, thickness, bottom
+
+
+def states_of_runs(base, layout, runs):
+    """``scalar_layout_states``'s answer from the scan's runs (``SensorRun``s): the
+    recipe's mapping, the first run's thickness and bottom per slot."""
+    from .mapping import unscanned_slots
+    from .scan_result import protruding_slots
+
+    plan = base.plan
+    flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
+    unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
+    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    states, thickness, bottom = [], [], []
+    for slot in slot_map.slots:
+        states.append(UNSCANNED if slot.state == mapping.UNSCANNED else slot.state)
+        if slot.runs:
+            run = runs[slot.runs[0]]
+            thickness.append(run.diff)
+            bottom.append(run.bottom)
+        else:
+            thickness.append(None)
+            bottom.append(None)
     return states, thickness, bottom
 
 
@@ -891,7 +955,13 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
     ``scalar``: through the scalar path (the oracle)."""
     draws = draw_block(base, tolerances, seed, block, count)
     peaks = []
-    if scalar or needs_scalar_path(base.layout):
+    spot = base.layout.spot
+    if scalar:
+        states, thickness, bottom = scalar_block(base, draws, peaks)
+    elif spot is not None and not spot.ideal:
+        # The block at once (core/sweep_spot.py): the scalar path's answers, bit for bit.
+        states, thickness, bottom = spot_block(base, draws, peaks)
+    elif needs_scalar_path(base.layout):
         states, thickness, bottom = scalar_block(base, draws, peaks)
     else:
         states, thickness, bottom = scan_block(base, draws)
