@@ -76,14 +76,31 @@ def local_cluster(workers):
     free port: another cluster on the machine may hold 8787."""
     import logging
 
+    import dask
     from distributed import LocalCluster
 
     for name in ("distributed", "distributed.scheduler", "distributed.nanny",
                  "distributed.core", "distributed.worker"):
         logging.getLogger(name).setLevel(logging.ERROR)
     _python_for_workers()
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                        dashboard_address=":0", silence_logs=logging.ERROR)
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": _worker_environ()}):
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                            dashboard_address=":0", silence_logs=logging.ERROR)
+
+
+def _worker_environ():
+    """The environment Dask's nannies give a worker before it starts, without the low
+    ``MALLOC_TRIM_THRESHOLD_`` Dask sets by default (64 KiB). A sweep's block allocates and
+    frees numpy temporaries of megabytes; with that threshold glibc hands the memory back to
+    the system after each block and faults it in again on the next, and fixing the threshold
+    also turns off glibc's own adaptive one: a partition took ~20 % longer in a worker than in
+    this process (1.39-1.42 s against 1.11-1.25 s; without the variable 1.04-1.11 s). A block's
+    memory is bounded by its 500 layouts, so the worker's memory stays bounded without it."""
+    import dask
+
+    environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", default={}) or {})
+    environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+    return environ
 
 
 def _python_for_workers():
