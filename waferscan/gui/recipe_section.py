@@ -8,12 +8,11 @@ from t, Δt and Δp (shown greyed in the empty field)."""
 
 from __future__ import annotations
 
-from PySide import QtCore, QtGui
+from PySide import QtGui
 
 from ..cad.recipe_properties import NOT_SET
-from ..core.errors import InputError
 from ..core.mapping import RULE_SETS
-from .sensor_section import settings_object
+from .settings_section import SettingsSection
 
 # (property, label): lengths in mm as the properties hold them; blank means not set.
 LIMITS = (("ThicknessMin", "Thickness min (mm)"), ("ThicknessMax", "Thickness max (mm)"),
@@ -22,32 +21,32 @@ LIMITS = (("ThicknessMin", "Thickness min (mm)"), ("ThicknessMax", "Thickness ma
 PROPERTIES = tuple(p for p, _ in LIMITS) + ("ThicknessCorrection", "Rules")
 
 
-class RecipeSection:
-    """The section's widgets; ``box`` goes into the panel. ``check(doc)`` is the readers' check
-    (raises InputError); ``transaction(doc, name)`` one undo step that aborts when its block
-    raises; ``applied`` is called after a change is written; ``plan`` the SlotPlan of the scan
-    shown, whose resolved limits the blank fields show greyed."""
+class RecipeSection(SettingsSection):
+    """The section's widgets (``settings_section.SettingsSection``); ``plan`` is the SlotPlan
+    of the scan shown, whose resolved limits the blank fields show greyed."""
+
+    title = "Recipe"
+    tip = "Show and edit the mapping recipe of the document's ScanSettings (SPEC §11)"
+    apply_tip = ("Write the recipe to the document's ScanSettings (one undo step); the next "
+                 "Run scan or Replay judges by it")
+    undo_name = "WaferScan recipe"
+    missing = "No ScanSettings with a recipe: Run scan adds one."
+    written = "Run scan or Replay to judge by them."
+    properties = PROPERTIES
 
     def __init__(self, doc, check, transaction, applied=None, plan=None):
-        self.doc, self.check, self.transaction, self.applied = doc, check, transaction, applied
-        self.box = QtGui.QWidget()
-        self.toggle = QtGui.QToolButton()
-        self.toggle.setText("Recipe")
-        self.toggle.setToolButtonStyle(QtCore.Qt.ToolButtonTextBesideIcon)
-        self.toggle.setCheckable(True)
-        self.toggle.setAutoRaise(True)
-        self.toggle.setToolTip("Show and edit the mapping recipe of the document's ScanSettings "
-                               "(SPEC §11)")
-        self.body = QtGui.QWidget()
-        form = QtGui.QFormLayout(self.body)
-        form.setContentsMargins(0, 0, 0, 0)
+        self.plan = plan
+        super().__init__(doc, check, transaction, applied)
+
+    def build(self, form):
         self.rules = QtGui.QComboBox()
         self.rules.addItems(list(RULE_SETS))
         self.rules.setToolTip("waferscan: a run by its bottom edge (SPEC §4); boundary: by its "
                               "centre and the slot boundaries (SPEC §11)")
         form.addRow("Rules", self.rules)
         defaults = {}
-        if plan is not None:
+        if self.plan is not None:
+            plan = self.plan
             (low, high), (below, above) = plan.thickness_window(), plan.position_window()
             defaults = {"ThicknessMin": low, "ThicknessMax": high,
                         "DoubleThreshold": plan.double_limit(), "PositionBelow": below,
@@ -63,34 +62,8 @@ class RecipeSection:
         self.correction = QtGui.QLineEdit()
         self.correction.setToolTip("Measured diffs are divided by this (a calibration's)")
         form.addRow("Thickness correction", self.correction)
-        self.apply_button = QtGui.QPushButton("Apply")
-        self.apply_button.setToolTip("Write the recipe to the document's ScanSettings (one undo "
-                                     "step); the next Run scan or Replay judges by it")
-        form.addRow(self.apply_button)
-        self.message = QtGui.QLabel("")
-        self.message.setWordWrap(True)
-        form.addRow(self.message)
-        outer = QtGui.QVBoxLayout(self.box)
-        outer.setContentsMargins(0, 0, 0, 0)
-        outer.addWidget(self.toggle)
-        outer.addWidget(self.body)
-        self.toggle.toggled.connect(self._shown)
-        self.apply_button.clicked.connect(self.apply)
-        self.load()
-        self._shown(False)
 
-    def _shown(self, shown):
-        self.body.setVisible(shown)
-        self.toggle.setArrowType(QtCore.Qt.DownArrow if shown else QtCore.Qt.RightArrow)
-
-    def load(self):
-        """Fill the fields from the ScanSettings object (without the recipe: disabled)."""
-        obj = settings_object(self.doc)
-        usable = obj is not None and all(p in obj.PropertiesList for p in PROPERTIES)
-        self.body.setEnabled(usable)
-        if not usable:
-            self.message.setText("No ScanSettings with a recipe: Run scan adds one.")
-            return
+    def fill(self, obj):
         for prop, _ in LIMITS:
             value = float(getattr(obj, prop))
             self.fields[prop].setText("" if value < 0.0 else f"{value:g}")
@@ -113,35 +86,5 @@ class RecipeSection:
         values["Rules"] = self.rules.currentText()
         return values
 
-    def apply(self):
-        """Write the fields to ScanSettings in one undo step, checked by the scan's readers;
-        a refused recipe: the message says why and the document is left as it was. True when
-        written."""
-        obj = settings_object(self.doc)
-        try:
-            values = self.values()
-        except ValueError as exc:
-            return self._refused(str(exc))
-        current = {prop: (str(obj.Rules) if prop == "Rules" else float(getattr(obj, prop)))
-                   for prop in values}
-        if current == values:
-            self.message.setText("No change.")
-            return False
-        try:
-            with self.transaction(self.doc, "WaferScan recipe"):
-                for prop, value in values.items():
-                    setattr(obj, prop, value)
-                self.check(self.doc)  # the readers' own checks; raising aborts the transaction
-        except InputError as exc:
-            return self._refused(exc.message)
-        changed = ", ".join(p for p in values if values[p] != current[p])
-        self.message.setStyleSheet("")
-        self.message.setText(f"Written: {changed}. Run scan or Replay to judge by them.")
-        if self.applied is not None:
-            self.applied()
-        return True
-
-    def _refused(self, why):
-        self.message.setStyleSheet("color: #c01010;")
-        self.message.setText(f"Not written: {why}")
-        return False
+    def current(self, obj, prop):
+        return str(obj.Rules) if prop == "Rules" else float(getattr(obj, prop))

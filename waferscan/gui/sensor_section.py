@@ -7,13 +7,11 @@ scan or Replay scans with them."""
 
 from __future__ import annotations
 
-from PySide import QtCore, QtGui
+from PySide import QtGui
 
-from ..cad.reader import DocumentScene
-from ..cad.roles import role_holder
-from ..core.errors import InputError
 from ..core.motion import LATCHES
 from .inputs import length_input
+from .settings_section import SettingsSection, settings_object
 
 # (property, label, kind): "length" fields take a unit (the user's by default), "number"
 # fields a bare number (the thresholds are fractions, the sweep is in degrees).
@@ -26,40 +24,26 @@ FIELDS = (("SpotDiameter", "Spot ⌀", "length"), ("SpotWidth", "Slit width", "l
           ("Sweep", "Sweep °", "number"))
 
 
-def settings_object(doc):
-    """The document's one ScanSettings object (the one holding the properties), or None."""
-    scene = DocumentScene.of(doc)
-    if len(scene.settings) != 1:
-        return None
-    return role_holder(scene.settings[0].obj)
-
-
 def _number(value):
     return float(getattr(value, "Value", value))
 
 
-class SensorSection:
-    """The section's widgets; ``box`` goes into the panel. ``check(doc)`` is the readers' check
-    (raises InputError for a value they refuse); ``transaction(doc, name)`` the context of one
-    undo step (commands.transaction, which aborts when its block raises); ``applied`` is called
-    after a change is written."""
+class SensorSection(SettingsSection):
+    """The section's widgets (``settings_section.SettingsSection``)."""
 
-    def __init__(self, doc, check, transaction, applied=None):
-        self.doc, self.check, self.applied = doc, check, applied
-        self.transaction = transaction
-        self.box = QtGui.QWidget()
-        self.toggle = QtGui.QToolButton()
-        self.toggle.setText("Sensor and slow scan")
-        self.toggle.setToolButtonStyle(QtCore.Qt.ToolButtonTextBesideIcon)
-        self.toggle.setCheckable(True)
-        self.toggle.setAutoRaise(True)
-        self.toggle.setToolTip("Show the beam spot, thresholds, latch, jab and sweep of the "
-                               "document's ScanSettings (SPEC §10, §13)")
-        self.body = QtGui.QWidget()
-        form = QtGui.QFormLayout(self.body)
-        form.setContentsMargins(0, 0, 0, 0)
+    title = "Sensor and slow scan"
+    tip = ("Show the beam spot, thresholds, latch, jab and sweep of the document's ScanSettings "
+           "(SPEC §10, §13)")
+    apply_tip = ("Write these values to the document's ScanSettings (one undo step); the next "
+                 "Run scan or Replay uses them")
+    undo_name = "WaferScan sensor and slow scan"
+    missing = "No ScanSettings with these properties: Run scan adds them."
+    written = "Run scan or Replay to scan with them."
+    properties = tuple(p for p, _, _ in FIELDS)
+
+    def build(self, form):
         self.fields = {}
-        obj = settings_object(doc)
+        obj = settings_object(self.doc)
         for prop, label, kind in FIELDS:
             tip = obj.getDocumentationOfProperty(prop) if obj is not None and \
                 prop in obj.PropertiesList else prop
@@ -72,34 +56,8 @@ class SensorSection:
         self.latch.addItems(list(LATCHES))
         self.latch.setToolTip("Where an edge is latched: step, encoder or sampled")
         form.addRow("Latch", self.latch)
-        self.apply_button = QtGui.QPushButton("Apply")
-        self.apply_button.setToolTip("Write these values to the document's ScanSettings (one "
-                                     "undo step); the next Run scan or Replay uses them")
-        form.addRow(self.apply_button)
-        self.message = QtGui.QLabel("")
-        self.message.setWordWrap(True)
-        form.addRow(self.message)
-        outer = QtGui.QVBoxLayout(self.box)
-        outer.setContentsMargins(0, 0, 0, 0)
-        outer.addWidget(self.toggle)
-        outer.addWidget(self.body)
-        self.toggle.toggled.connect(self._shown)
-        self.apply_button.clicked.connect(self.apply)
-        self.load()
-        self._shown(False)
 
-    def _shown(self, shown):
-        self.body.setVisible(shown)
-        self.toggle.setArrowType(QtCore.Qt.DownArrow if shown else QtCore.Qt.RightArrow)
-
-    def load(self):
-        """Fill the fields from the ScanSettings object (absent: the section is disabled)."""
-        obj = settings_object(self.doc)
-        usable = obj is not None and all(p in obj.PropertiesList for p, _, _ in FIELDS)
-        self.body.setEnabled(usable)
-        if not usable:
-            self.message.setText("No ScanSettings with these properties: Run scan adds them.")
-            return
+    def fill(self, obj):
         for prop, _, kind in FIELDS:
             value = _number(getattr(obj, prop))
             if kind == "length":
@@ -122,35 +80,5 @@ class SensorSection:
         values["Latch"] = self.latch.currentText()
         return values
 
-    def apply(self):
-        """Write the fields to ScanSettings in one undo step, checked by the scan's readers;
-        a refused value: the message says why and the document is left as it was. True when
-        written."""
-        obj = settings_object(self.doc)
-        try:
-            values = self.values()
-        except ValueError as exc:
-            return self._refused(str(exc))
-        current = {prop: (_number(getattr(obj, prop)) if prop != "Latch" else str(obj.Latch))
-                   for prop in values}
-        if current == values:
-            self.message.setText("No change.")
-            return False
-        try:
-            with self.transaction(self.doc, "WaferScan sensor and slow scan"):
-                for prop, value in values.items():
-                    setattr(obj, prop, value)
-                self.check(self.doc)  # the readers' own checks; raising aborts the transaction
-        except InputError as exc:
-            return self._refused(exc.message)  # the fields keep the typed text, to correct
-        changed = ", ".join(p for p in values if values[p] != current[p])
-        self.message.setStyleSheet("")
-        self.message.setText(f"Written: {changed}. Run scan or Replay to scan with them.")
-        if self.applied is not None:
-            self.applied()
-        return True
-
-    def _refused(self, why):
-        self.message.setStyleSheet("color: #c01010;")
-        self.message.setText(f"Not written: {why}")
-        return False
+    def current(self, obj, prop):
+        return str(obj.Latch) if prop == "Latch" else _number(getattr(obj, prop))
