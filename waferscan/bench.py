@@ -39,6 +39,7 @@ import os
 import random
 import re
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -580,12 +581,30 @@ def gui_animation(layout_path, seconds=3.0):
         env = dict(os.environ, WAFERSCAN_BENCH_LAYOUT=str(layout_path),
                    WAFERSCAN_BENCH_RESULT=str(result_path), WAFERSCAN_BENCH_SECONDS=str(seconds),
                    QTWEBENGINE_DISABLE_SANDBOX="1")
-        subprocess.run(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                       timeout=180, start_new_session=True)
+        _run_session(command, env, timeout=180)
         result = json.loads(result_path.read_text())
     if not result.get("ok"):
         raise RuntimeError(f"the GUI animation bench failed: {result.get('error')}")
     return result
+
+
+def _run_session(command, env, timeout):
+    """Run ``command`` in a session of its own and, however it ends (done, timed out, Ctrl-C),
+    stop every process left in that session: ``xvfb-run`` starts Xvfb and FreeCAD as its
+    children, and killing only the process started leaves FreeCAD running on (an orphaned GUI
+    bench was found an hour after its bench was stopped)."""
+    process = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        process.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        raise RuntimeError(f"the GUI animation bench did not finish in {timeout} s") from None
+    finally:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass  # nothing left of the session
+        process.wait()
 
 
 # --- The whole run ------------------------------------------------------------------------
