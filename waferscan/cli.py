@@ -19,7 +19,6 @@ from .core.errors import InputError
 from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, Parameters, atomic_write_text,
                        format_parameters, format_results, read_parameters)
 from .core.model import DIRECTIONS, MODES
-from .core.rules import offers_exact_edges
 
 PROG = "waferscan"
 
@@ -50,20 +49,9 @@ def _write(path, text):
 
 
 def _check_engine(layout, engine, source, parameters=None):
-    """Exact edges (z_step = 0) come from the analytic engine only; the error names the line
-    that set z_step, in the parameters file when it came from there."""
-    if layout.scan.exact and not offers_exact_edges(engine):
-        message = (f"z_step = 0 asks for exact edges, which only the analytic engine gives "
-                   f"(not {engine})")
-        if parameters is not None and "z_step" in parameters.values:
-            raise InputError(parameters.source, parameters.lines.get("z_step"), message)
-        raise InputError(source, None, message)
-    from .core.sensing import ideal_sensor
+    from .core.engine_choice import check_engine
 
-    if not ideal_sensor(layout) and engine != "analytic":
-        # SPEC §10: a spot's blocked fraction and latching in motion are closed forms.
-        raise InputError(source, None, f"a beam spot or latch = {layout.scan.latch} is "
-                                       f"computed by the analytic engine only (not {engine})")
+    check_engine(layout, engine, source, parameters)
 
 
 def _scan_input(path, engine, parameters=None, store=False):
@@ -297,6 +285,8 @@ def cmd_bench(args):
 def cmd_sweep(args):
     from . import tolerance_study
 
+    if args.out:  # refused before the sweep, not after it
+        tolerance_study.output_folder(args.out)
     progress = tolerance_study.ProgressLine(args.n)
     try:
         summary, margins = tolerance_study.run_study(
@@ -328,7 +318,7 @@ def _count(text):
 
 
 def _workers(text):
-    """--workers: a whole number >= 0 (0: no Dask, in this process)."""
+    """--workers, --seed: a whole number >= 0 (--workers 0: no Dask, in this process)."""
     try:
         value = int(text)
     except ValueError:
@@ -423,7 +413,8 @@ def build_parser():
     sweep.add_argument("--tolerances", metavar="TOL.toml", required=True)
     sweep.add_argument("-n", type=_count, required=True, metavar="N",
                        help="how many layouts to draw")
-    sweep.add_argument("--seed", type=int, default=0, help="the random seed (default 0)")
+    sweep.add_argument("--seed", type=_workers, default=0,
+                       help="the random seed, a whole number >= 0 (default 0)")
     where = sweep.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_workers, metavar="K",
                        help="local Dask worker processes (default: one per core; 0: no Dask)")

@@ -257,14 +257,24 @@ def _atomic_png(figure, path):
         raise
 
 
-def write_outputs(summary, folder, measured=None):
-    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png in
-    ``folder`` (made if needed); returns the paths written."""
+def output_folder(folder):
+    """The sweep's output folder, made if needed: called before the sweep too, so that a path
+    that cannot be a folder or cannot be written in is refused before the work, not after it
+    (InputError)."""
     folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(folder, None, f"cannot make the folder: {exc.strerror}") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise InputError(folder, None, "cannot write in this folder")
+    return folder
+
+
+def write_outputs(summary, folder, measured=None):
+    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png in
+    ``folder`` (made if needed); returns the paths written."""
+    folder = output_folder(folder)
     written = []
     files = {
         "summary.json": json.dumps(summary, indent=2) + "\n",

@@ -90,6 +90,26 @@ def test_bad_input_is_status_2(tmp_path):
     assert done.returncode == 2 and done.stderr.startswith("waferscan: error: ")
 
 
+def test_an_engine_that_cannot_scan_the_layout_is_refused_as_scan_refuses_it(tmp_path):
+    """calibrate with exact edges or a beam spot on a stepped engine was an EngineError or a
+    ValueError traceback (exit 1); it is the same one-line refusal as waferscan scan's."""
+    drifted = scenario(tmp_path)
+    exact = tmp_path / "exact.txt"
+    exact.write_text("# exact edges\nz_step = 0\n")
+    for command in ("calibrate", "scan"):
+        done = run(command, drifted, "--params", exact, "--engine", "loop")
+        assert done.returncode == 2, done.stderr
+        assert done.stderr == (f"waferscan: error: {exact}:2: z_step = 0 asks for exact edges, "
+                               "which only the analytic engine gives (not loop)\n")
+    spot = tmp_path / "spot.toml"
+    spot.write_text(drifted.read_text().replace("[sensor]\n", "[sensor]\nspot_diameter = 2.0\n",
+                                                1))
+    done = run("calibrate", spot, "--engine", "loop")
+    assert done.returncode == 2, done.stderr
+    assert done.stderr == (f"waferscan: error: {spot}: a beam spot or latch = step is computed "
+                           "by the analytic engine only (not loop)\n")
+
+
 def test_the_mcs_link_calibrates_on_cal_and_lists_the_recipe(tmp_path):
     drifted = scenario(tmp_path)
     folder = tmp_path / "mcs"

@@ -127,6 +127,15 @@ def test_command_writes_summary_tables_and_plots(tol_file, tmp_path, capsys):
     ("\n[states]\npresent = 0.8\nempty = 0.1\n", 2, "sum to 0.9, not 1"),
     ("[states]\npresent = 0.9\nwobbly = 0.1\n", 3, "wobbly: unknown state"),
     ("[beam_z]\ndist = \"fixed\"\nvalue = \"high\"\n", 3, "expected a finite number"),
+    # A dist that is not a string was a TypeError traceback.
+    ("[thickness]\ndist = [\"normal\"]\nmean = 0.7\nsigma = 0.01\n", 2,
+     "dist: ['normal'] is not a distribution"),
+    # The key and line blamed are the limit's own: lo here (hi was named).
+    ("[thickness]\ndist = \"uniform\"\nlo = -0.1\nhi = 0.8\n", 3,
+     "[thickness] lo: a thickness must stay above 0 mm"),
+    ("[threshold_on]\ndist = \"uniform\"\nlo = 0.0\nhi = 0.5\n", 3, "[threshold_on] lo: "),
+    ("[threshold_on]\ndist = \"uniform\"\nlo = 0.4\nhi = 1.5\n", 4, "[threshold_on] hi: "),
+    ("[tilt]\ndist = \"uniform\"\nlo = -100.0\nhi = 0.0\n", 3, "[tilt] lo: "),
 ])
 def test_bad_tolerance_file_exits_2_with_its_line(tmp_path, capsys, text, line, words):
     path = tmp_path / "bad.toml"
@@ -166,3 +175,21 @@ def test_local_workers_keep_glibcs_adaptive_memory_trim(tol_file):
     finally:
         cluster.close()
     assert seen == [(None, "1")]
+
+
+def test_an_out_that_cannot_be_a_folder_is_refused_before_the_sweep(tmp_path, capsys):
+    """--out naming a file was refused only after the whole sweep, its results lost."""
+    taken = tmp_path / "afile"
+    taken.write_text("")
+    status = cli.main(["sweep", PAPER, "--tolerances", str(tmp_path / "missing.toml"), "-n",
+                       "10", "--workers", "0", "--out", str(taken)])
+    err = capsys.readouterr().err
+    # The tolerance file is missing too: the --out folder was checked first, before any work.
+    assert status == 2 and err == f"waferscan: error: {taken}: cannot make the folder: File exists\n"
+
+
+def test_a_negative_seed_is_refused_as_the_seed(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["sweep", PAPER, "--tolerances", "x.toml", "-n", "10", "--seed", "-1"])
+    assert exc.value.code == 2
+    assert "argument --seed: must not be negative, got '-1'" in capsys.readouterr().err

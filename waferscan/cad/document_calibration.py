@@ -6,28 +6,33 @@ of the layout read."""
 from __future__ import annotations
 
 from ..core.calibration import calibrate
+from ..core.engine_choice import check_engine
 from ..core.mcs import apply_parameters
 from ..core.scan import scan_layout
 from .reader import DocumentScene, read_layout
 
 
-def calibrate_document(doc, parameters=None, engine="analytic", progress=None, read=None):
+def calibrate_document(doc, parameters=None, engine="analytic", progress=None, read=None,
+                       source=None):
     """Calibrate the document's layout (with ``parameters``, a core ``mcs.Parameters``, over
     it). ``read``: (scene, layout) already read from this document (the MCS link's cache);
-    ``progress(done, total)`` is called during both scans. Returns a core Calibration or raises
-    CalibrationError (InputError for bad input)."""
+    ``progress(done, total)`` is called during both scans; ``source`` names the layout in an
+    error (default: the document's file). Returns a core Calibration or raises
+    CalibrationError (InputError for bad input, an engine that cannot scan the layout too)."""
     if read is not None:
         layout = read[1]
     else:
         layout = read_layout(doc, DocumentScene.of(doc))
     if parameters is not None:
         layout = apply_parameters(layout, parameters)
+    check_engine(layout, engine, source or doc.FileName or doc.Label, parameters)
     return calibrate(layout, lambda scanned: scan_layout(scanned, engine, progress=progress))
 
 
 def calibrate_input(path, parameters=None, engine="analytic"):
-    """Calibrate a scenario .toml or a layout .FCStd, as ``waferscan scan`` scans one."""
+    """Calibrate a scenario .toml or a layout .FCStd, as ``waferscan scan`` scans one: an
+    engine that cannot scan the layout is refused as ``scan`` refuses it (InputError)."""
     from .layout_files import opened_layout
 
     with opened_layout(path) as doc:
-        return calibrate_document(doc, parameters, engine)
+        return calibrate_document(doc, parameters, engine, source=path)

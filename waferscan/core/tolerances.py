@@ -168,7 +168,7 @@ def _distribution(name, table, error):
     kind = table.get("dist")
     if kind is None:
         raise error(f"[{name}]: missing key 'dist' (uniform, normal or fixed)", name)
-    if kind not in DISTRIBUTIONS:
+    if not isinstance(kind, str) or kind not in DISTRIBUTIONS:
         raise error(f"[{name}] dist: {kind!r} is not a distribution (uniform, normal or fixed)",
                     name, "dist")
     wanted = DISTRIBUTIONS[kind]
@@ -186,20 +186,26 @@ def _distribution(name, table, error):
         raise error(f"[{name}] hi: {dist.b:g} is below lo {dist.a:g}", name, "hi")
     if kind == "normal" and dist.b < 0.0:
         raise error(f"[{name}] sigma: must not be negative, got {dist.b:g}", name, "sigma")
-    last = wanted[-1] if kind != "normal" else "mean"
+    # The key blamed is the one that sets the limit broken: a uniform's lo or hi, a normal's
+    # mean (its mean -+ 6 sigma), a fixed value.
+    low_key = {"uniform": "lo", "normal": "mean"}.get(kind, "value")
+    high_key = {"uniform": "hi", "normal": "mean"}.get(kind, "value")
     if name == "thickness" and dist.low <= 0.0:
-        raise error(f"[thickness] {last}: a thickness must stay above 0 mm (a normal's "
-                    f"mean - 6 sigma too), got {table[last]!r}", name, last)
+        raise error(f"[thickness] {low_key}: a thickness must stay above 0 mm (a normal's "
+                    f"mean - 6 sigma too), got {table[low_key]!r}", name, low_key)
     if name == "sensor_response" and dist.low < 0.0:
-        raise error(f"[sensor_response] {last}: a response time cannot be negative "
-                    f"(a normal's mean - 6 sigma neither)",
-                    name, last)
+        raise error(f"[sensor_response] {low_key}: a response time cannot be negative "
+                    f"(a normal's mean - 6 sigma neither), got {table[low_key]!r}",
+                    name, low_key)
     if name == "threshold_on" and not (0.0 < dist.low and dist.high <= 1.0):
-        raise error(f"[threshold_on] {last}: a threshold is a blocked fraction in (0, 1] "
-                    f"(a normal's mean +- 6 sigma too)",
-                    name, last)
-    if name == "tilt" and not dist.high < 90.0:
-        raise error("[tilt]: a tilt must stay below 90 degrees", name, last)
+        key = low_key if not 0.0 < dist.low else high_key
+        raise error(f"[threshold_on] {key}: a threshold is a blocked fraction in (0, 1] "
+                    f"(a normal's mean +- 6 sigma too), got {table[key]!r}",
+                    name, key)
+    if name == "tilt" and not (dist.high < 90.0 and dist.low > -90.0):
+        key = high_key if not dist.high < 90.0 else low_key
+        raise error(f"[tilt] {key}: a tilt must stay within +-90 degrees, got {table[key]!r}",
+                    name, key)
     return dist
 
 
