@@ -306,26 +306,25 @@ def cmd_sweep(args):
     return 0
 
 
-def _count(text):
-    """A whole number >= 1 (-n, --partitions)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
-    return value
+def _whole(minimum):
+    """An argparse type: a whole number >= ``minimum`` (-n and --partitions 1, --workers and
+    --seed 0; --workers 0: no Dask, in this process)."""
+
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(
+                f"must not be negative, got {text!r}" if minimum == 0
+                else f"must be at least {minimum}, got {text!r}")
+        return value
+
+    return parse
 
 
-def _workers(text):
-    """--workers, --seed: a whole number >= 0 (--workers 0: no Dask, in this process)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must not be negative, got {text!r}")
-    return value
+_at_least_one, _not_negative = _whole(1), _whole(0)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -411,16 +410,16 @@ def build_parser():
                                          "(SPEC §12), on Dask")
     sweep.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
     sweep.add_argument("--tolerances", metavar="TOL.toml", required=True)
-    sweep.add_argument("-n", type=_count, required=True, metavar="N",
+    sweep.add_argument("-n", type=_at_least_one, required=True, metavar="N",
                        help="how many layouts to draw")
-    sweep.add_argument("--seed", type=_workers, default=0,
+    sweep.add_argument("--seed", type=_not_negative, default=0,
                        help="the random seed, a whole number >= 0 (default 0)")
     where = sweep.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=_workers, metavar="K",
+    where.add_argument("--workers", type=_not_negative, metavar="K",
                        help="local Dask worker processes (default: one per core; 0: no Dask)")
     where.add_argument("--scheduler", metavar="ADDR", help="an existing Dask scheduler, "
                                                            "e.g. tcp://HOST:8786")
-    sweep.add_argument("--partitions", type=_count, metavar="P",
+    sweep.add_argument("--partitions", type=_at_least_one, metavar="P",
                        help="how many tasks the layouts are split into (default: 4 a worker; "
                             "the results do not depend on it)")
     sweep.add_argument("--rules", choices=("waferscan", "boundary"),
