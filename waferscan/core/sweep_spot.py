@@ -310,29 +310,9 @@ class RoundSpotFraction(spot_module.GroupedFraction):
                                    spot_module._circle_primitive(table["_sb"], r))
                            for width, table in self.tables.items()}
 
-    def __call__(self, tau, group):
-        import numpy as np
-
-        tau = np.asarray(tau, dtype=float)
-        group = np.asarray(group, dtype=int)
-        out = np.zeros(tau.shape)
-        b = self.beta
-        for width, table in self.tables.items():
-            if width == 0:
-                continue
-            mask = self.width[group] == width
-            if not mask.any():
-                continue
-            rows = self.slot[group[mask]]
-            d = {k: v[rows] for k, v in table.items()}
-            pa, pb = (p[rows] for p in self.primitives[width])
-            t = tau[mask][:, None]
-            upper = _round_area_below(self.spot, d["_sa"], d["_sb"], b * (d["_hi_a"] - t),
-                                      b * (d["_hi_b"] - t), pa, pb)
-            lower = _round_area_below(self.spot, d["_sa"], d["_sb"], b * (d["_lo_a"] - t),
-                                      b * (d["_lo_b"] - t), pa, pb)
-            out[mask] = (upper - lower).sum(axis=1) / self.spot.area
-        return np.clip(out, 0.0, 1.0)
+    def _area_below(self, width, rows, d, ya, yb):
+        pa, pb = (p[rows] for p in self.primitives[width])
+        return _round_area_below(self.spot, d["_sa"], d["_sb"], ya, yb, pa, pb)
 
 
 class _Strips:
