@@ -9,8 +9,10 @@ import random
 
 from random_layouts import random_layout
 from waferscan.core.engines import (SETTLED_MARGIN, _level_edger, _settler, wafer_edges)
+from waferscan.core.geometry import TOUCH_TOLERANCE, accessible, accessible_wafers
+from waferscan.core.mapping import LIMIT_SLACK, SlotPlan, unscanned_slots
 from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer
-from waferscan.core.scan_result import _carrier_wafers, protrusion
+from waferscan.core.scan_result import _carrier_protrusions, _carrier_wafers, protrusion
 
 
 def _level_layout(rng, emitter, heading, length, step=0.05):
@@ -115,3 +117,82 @@ def test_carrier_wafers_and_protrusion_are_the_mid_centre_definitions():
                 reach += wafer.radius * math.sqrt(max(0.0, 1.0 - along * along))
                 assert protrusion(carrier, wafer) == reach - 0.5 * carrier.wafer_diameter
     assert found > 500 and left > 500
+
+
+def test_carrier_protrusions_are_protrusion_of_the_carrier_wafers():
+    """The one pass of protruding_slots (level wafers without their zero terms, and left out by
+    X or Y alone) gives each carrier wafer's ``protrusion`` bit for bit, also for level wafers
+    placed a hair inside and outside the carrier's circle along X and Y, where the box around
+    the circle is tight."""
+    inside = outside = 0
+    for seed in range(300):
+        rng = random.Random(seed)
+        layout = random_layout(rng)
+        for carrier in layout.carriers:
+            r = 0.5 * carrier.wafer_diameter
+            edge_wafers = []
+            for k in range(8):
+                offset = r + rng.choice([0.0, 1e-9, -1e-9, 1e-7, -1e-7, 2e-6, -2e-6, 1e-3])
+                dx, dy = rng.choice([(offset, 0.0), (-offset, 0.0), (0.0, offset),
+                                     (0.0, -offset)])
+                edge_wafers.append(Wafer(f"E{k}", (carrier.center[0] + dx, carrier.center[1] + dy,
+                                                   carrier.seat_z(1)),
+                                         (0.0, 0.0, 1.0), carrier.wafer_diameter, 0.775))
+            wafers = layout.wafers + tuple(edge_wafers)
+            expected = [(w, protrusion(carrier, w)) for w in wafers
+                        if math.hypot(w.mid_center[0] - carrier.center[0],
+                                      w.mid_center[1] - carrier.center[1]) < r
+                        and carrier.seat_z(1) - carrier.pitch <= w.mid_center[2]
+                        <= carrier.seat_z(carrier.slot_count) + carrier.pitch]
+            assert _carrier_protrusions(carrier, wafers) == expected, seed
+            inside += sum(1 for w, _ in expected if w.name.startswith("E"))
+            outside += len(edge_wafers) - sum(1 for w, _ in expected if w.name.startswith("E"))
+    assert inside > 300 and outside > 300
+
+
+def test_the_box_around_the_beam_leaves_out_only_what_the_accessibility_check_does():
+    """accessible_wafers leaves a level wafer out by X or Y alone when its centre lies further
+    from the beam's box than its reach: wafers a hair either side of that reach, beside each
+    end of the beam and along its sides, are kept exactly when ``accessible`` keeps them."""
+    kept = dropped = 0
+    for seed in range(1500):
+        rng = random.Random(seed)
+        emitter = (rng.uniform(-300, 300), rng.uniform(-300, 300), 280.0)
+        layout = _level_layout(rng, emitter, rng.uniform(-math.pi, math.pi),
+                               rng.choice([rng.uniform(1.0, 600.0), 160.0]))
+        beam = layout.beam
+        ends = [emitter, tuple(o + beam.length * d for o, d in zip(emitter, beam.direction))]
+        wafers = []
+        for k in range(12):
+            diameter = rng.choice([150.0, 300.0, rng.uniform(1.0, 450.0)])
+            reach = diameter / 2.0 + 10.0 * TOUCH_TOLERANCE
+            end = rng.choice(ends)
+            offset = reach + rng.choice([0.0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-6, -1e-6, 3e-6])
+            dx, dy = rng.choice([(offset, 0.0), (-offset, 0.0), (0.0, offset), (0.0, -offset)])
+            wafers.append(Wafer(f"W{k}", (end[0] + dx, end[1] + dy, rng.uniform(275.0, 285.0)),
+                                (0.0, 0.0, 1.0), diameter, 0.775))
+        scan = layout.scan
+        expected = [i for i, w in enumerate(wafers)
+                    if accessible(layout, w, scan.start_z, scan.final_z)]
+        assert accessible_wafers(layout, wafers, scan.start_z, scan.final_z) == expected, seed
+        kept += len(expected)
+        dropped += len(wafers) - len(expected)
+    assert kept > 3000 and dropped > 3000
+
+
+def test_unscanned_slots_are_the_windows_outside_the_scanned_range():
+    """unscanned_slots answers "none" at once when the first and last windows are inside (the
+    windows rise with the slot): the same slots as testing every window, ranges a hair inside
+    and outside the windows' ends included."""
+    for seed in range(3000):
+        rng = random.Random(seed)
+        plan = SlotPlan(rng.randint(1, 30), rng.choice([4.76, 6.35, 10.0, 10.02]),
+                        rng.uniform(50.0, 400.0), 0.775, 0.3, 0.5)
+        bottom, top = plan.window(1)[0], plan.window(plan.slot_count)[1]
+        hair = rng.choice([0.0, 1e-12, -1e-12, 1e-9, -1e-9, 2e-9, -2e-9, 1.0, -1.0])
+        low = rng.choice([bottom - hair, bottom + rng.uniform(-30.0, 30.0)])
+        high = rng.choice([top + hair, top + rng.uniform(-30.0, 30.0)])
+        expected = [slot for slot in range(1, plan.slot_count + 1)
+                    if plan.window(slot)[0] < low - LIMIT_SLACK
+                    or plan.window(slot)[1] > high + LIMIT_SLACK]
+        assert unscanned_slots(plan, (low, high)) == expected, seed

@@ -164,48 +164,46 @@ def wafer_edges(layout, wafer, tol=TOUCH_TOLERANCE):
 def _level_edger(layout, tol=TOUCH_TOLERANCE):
     """``wafer_edges(layout, wafer, tol)`` for a level scan (lift along Z, beam level) and a flat
     level wafer (normal (0, 0, 1), no bow), as a function of the wafer: ``translation_range``'s
-    level case (``_level_wafer_range``, ``_rim_span``, ``_rim_roots`` with floats) written out
-    in one body, expression for expression, with the beam's values read once a scan. The same
-    numbers bit for bit (tests/core/test_fixed_cost.py), without the five calls per wafer that
-    were a third of an analytic scan of a fab's FOUP."""
+    level case (``_level_wafer_range``, ``_rim_span``, ``_rim_roots`` with floats) in one body,
+    with the beam's values read once a scan. The same numbers bit for bit
+    (tests/core/test_fixed_cost.py), without the five calls per wafer that were a third of an
+    analytic scan of a fab's FOUP.
+
+    With n = a = (0, 0, 1) and the beam's e_z = 0, the general sums reduce exactly (x * 0 = ±0,
+    x ± 0 = x, x * 1 = x, x / 1 = x): w.n = w_z, e.n = 0, a.n = 1, p = (w_x, w_y, 0),
+    q = (e_x, e_y, 0), so q.q depends on the beam alone; p.q keeps its trailing + 0.0 (p_z q_z),
+    which turns a -0.0 into the 0.0 whose sign the root's copysign reads."""
     ox, oy, oz = layout.beam.emitter
-    ex, ey, ez = layout.beam.direction
-    ax, ay, az = layout.lift_axis
+    ex, ey, _ = layout.beam.direction
     length = layout.beam.length
     sqrt, copysign, inf = math.sqrt, math.copysign, math.inf
+    qq = ex * ex + ey * ey  # (+ q_z q_z = + 0.0, which changes no sum of squares)
+    past_end = length + tol
 
     def edges(wafer):
-        nx, ny, nz = wafer.normal
         cx, cy, cz = wafer.center
         wx, wy, wz = ox - cx, oy - cy, oz - cz
-        wn = wx * nx + wy * ny + wz * nz
-        en = ex * nx + ey * ny + ez * nz
-        an = ax * nx + ay * ny + az * nz
-        px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
-        qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
         r = wafer.diameter / 2.0 + tol
-        r2 = r * r
+        c = wx * wx + wy * wy - r * r
         # _level_wafer_range, and _rim_span in it
-        qq = qx * qx + qy * qy + qz * qz
-        pq = px * qx + py * qy + pz * qz
-        c = px * px + py * py + pz * pz - r2
         if qq == 0.0:
             if c > 0.0:
                 return None
             low, high = -inf, inf
         else:
+            pq = wx * ex + wy * ey + 0.0
             disc = pq * pq - qq * c
             if disc < 0.0:
                 return None
             root = -pq - copysign(sqrt(disc), pq)  # _rim_roots
             r1 = root / qq
             r2 = c / root if root != 0.0 else 0.0
-            low, high = min(r1, r2), max(r1, r2)
-        if high < -tol or low > length + tol:
+            low, high = (r1, r2) if r1 <= r2 else (r2, r1)  # min, max (finite: roots)
+        if high < -tol or low > past_end:
             return None
-        t = wafer.thickness
-        low, high = (-tol - wn) / an, (t + tol - wn) / an
-        return (oz + min(low, high) * az, oz + max(low, high) * az)
+        low, high = -tol - wz, wafer.thickness + tol - wz
+        # min, max: a (validated, finite) thickness > -2 tol puts them in this order already
+        return (oz + low, oz + high) if low <= high else (oz + high, oz + low)
 
     return edges
 
@@ -257,7 +255,13 @@ def _settler(layout):
 
     def settled(edges):
         e0, e1 = edges
-        size = max(scan_size, abs(e0), abs(e1))
+        # max(scan_size, |e0|, |e1|) as comparisons (max's own: a later value replaces the
+        # largest so far only when greater)
+        size, a, b = scan_size, abs(e0), abs(e1)
+        if a > size:
+            size = a
+        if b > size:
+            size = b
         margin = SETTLED_MARGIN * size / step
         x0 = (e0 - start) / step
         x1 = (e1 - start) / step
@@ -265,7 +269,10 @@ def _settler(layout):
         # min(lo - x0, x0 - lo + 1, x1 - hi, hi + 1 - x1) <= margin, term by term
         if lo - x0 <= margin or x0 - lo + 1 <= margin or x1 - hi <= margin or hi + 1 - x1 <= margin:
             return None
-        lo, hi = max(0, lo), min(last_k, hi)
+        if lo < 0:  # max(0, lo), min(last_k, hi) of ints
+            lo = 0
+        if hi > last_k:
+            hi = last_k
         return (lo, hi) if lo <= hi else None
 
     return settled
@@ -307,18 +314,25 @@ def analytic_engine(layout, progress=None):
     scan = layout.scan
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")
-    edges = [None] * len(layout.wafers)
+    wafers = layout.wafers
+    edges = [None] * len(wafers)
     level_scan = layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0
     level_edges = _level_edger(layout) if level_scan else None
+    # A level wafer's stepped interval straight from its edges when no grid position lies near
+    # them (_is_level, _settled_steps, with the layout's part of each worked out once); else
+    # the steps next to the edges are tested (_snap_to_grid).
+    settled = None if scan.exact else _settler(layout)
+    steps = [None] * len(wafers)
     for i in reachable_wafers(layout):  # only these: most of a fab's wafers are out of reach
-        wafer = layout.wafers[i]
-        if level_scan and wafer.normal == (0.0, 0.0, 1.0) and not wafer.bow:
-            edges[i] = level_edges(wafer)
-        else:
-            edges[i] = wafer_edges(layout, wafer)
+        wafer = wafers[i]
+        level = level_scan and wafer.normal == (0.0, 0.0, 1.0)
+        edge = level_edges(wafer) if level and not wafer.bow else wafer_edges(layout, wafer)
+        edges[i] = edge
+        if settled is not None and edge is not None:
+            steps[i] = (level and settled(edge)) or _snap_to_grid(layout, wafer, edge)
     if scan.exact:
         edges = [None if e is None else geometric_edges(layout, w, e)
-                 for w, e in zip(layout.wafers, edges)]
+                 for w, e in zip(wafers, edges)]
         clipped = []
         for e in edges:
             if e is None or e[1] < scan.start_z or e[0] > scan.final_z:
@@ -332,13 +346,7 @@ def analytic_engine(layout, progress=None):
             else:
                 runs.append((first, last))
         return ExactHits(tuple(clipped), tuple(runs))
-    # _is_level(layout, w) and _settled_steps(layout, e), with the layout's part of each
-    # worked out once
-    settled = _settler(layout)
-    steps = tuple(None if e is None else
-                  (level_scan and w.normal == (0.0, 0.0, 1.0) and settled(e))
-                  or _snap_to_grid(layout, w, e)
-                  for w, e in zip(layout.wafers, edges))
+    steps = tuple(steps)
     return StepHits(scan.position_count, steps, runs_from_intervals(steps))
 
 

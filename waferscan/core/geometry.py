@@ -257,6 +257,13 @@ def accessible(layout, wafer, z_from, z_to, tol=TOUCH_TOLERANCE):
     return _distance_to_segment_xy(mid, start, end) <= reach_xy + drift + margin
 
 
+LEVEL = (0.0, 0.0, 1.0)  # a level wafer's normal
+# How much wider (mm) ``accessible_wafers``' box around the beam is than the beam: far above the
+# rounding of coordinates under a few metres (1e-12 mm), so that the box leaves out only what
+# the exact distance test would.
+PRE_REJECT_SLACK = 1e-6
+
+
 def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
     """Indices of the ``wafers`` that pass ``accessible(layout, wafer, z_from, z_to)``: the same
     bounds in the same arithmetic, so the same answers, with what depends on the beam alone
@@ -273,29 +280,48 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
     ax, ay, az = layout.lift_axis
     drift = math.hypot(ax, ay) / az * (hi_z - lo_z)
     hypot, sqrt = math.hypot, math.sqrt
+    # The beam's footprint lies in this box: a level wafer whose centre is further from it, in
+    # X or Y alone, than its reach (and far more than any rounding) cannot pass the distance
+    # test below, and is left out with two subtractions (a fab's other carriers).
+    x_low, x_high = min(sx, ex) - PRE_REJECT_SLACK, max(sx, ex) + PRE_REJECT_SLACK
+    y_low, y_high = min(sy, ey) - PRE_REJECT_SLACK, max(sy, ey) + PRE_REJECT_SLACK
     found = []
     for index, wafer in enumerate(wafers):
+        (cx, cy, cz), normal = wafer.center, wafer.normal
+        if normal == LEVEL:
+            bound = (wafer.diameter / 2.0 + drift) + margin
+            if cx - x_high > bound or x_low - cx > bound or cy - y_high > bound or \
+                    y_low - cy > bound:
+                continue
+            # A level wafer (most of a fab's): the general lines below with n = (0, 0, 1), which
+            # give these values exactly (h*0 = 0, x + 0 = x, radius*sqrt(0) = 0, x*1 = x); XY
+            # first, which leaves out most of a fab's wafers (those of the other carriers)
+            # before their thickness and bow are read. Both tests must pass: their order
+            # changes no answer.
+            px, py = cx - sx, cy - sy
+            along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
+            along = along if along > 0.0 else 0.0
+            f = along if along < 1.0 else 1.0
+            if not hypot(px - f * dx, py - f * dy) <= bound:
+                continue
+            thickness = wafer.thickness
+            mid_z = cz + thickness / 2.0
+            half_z = 0.5 * thickness + abs(wafer.bow)
+            if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
+                continue
+            found.append(index)
+            continue
         thickness = wafer.thickness
         radius = wafer.diameter / 2.0  # wafer.radius, without the property's call
         h = thickness / 2.0
-        (cx, cy, cz), (nx, ny, nz) = wafer.center, wafer.normal
+        nx, ny, nz = normal
         bow = abs(wafer.bow)  # 0 but for a bowed wafer (SPEC §10), which reaches further
-        if nz == 1.0 and nx == 0.0 and ny == 0.0:
-            # A level wafer (most of a fab's): the general lines below with n = (0, 0, 1), which
-            # give these values exactly (h*0 = 0, x + 0 = x, radius*sqrt(0) = 0, x*1 = x).
-            mid_z = cz + h
-            half_z = 0.5 * thickness + bow
-            if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
-                continue
-            px, py = cx - sx, cy - sy
-            reach_xy = radius
-        else:
-            mid_z = cz + h * nz
-            half_z = radius * sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
-            if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
-                continue
-            px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
-            reach_xy = radius + (0.5 * thickness + bow) * hypot(nx, ny)
+        mid_z = cz + h * nz
+        half_z = radius * sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
+        if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
+            continue
+        px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
+        reach_xy = radius + (0.5 * thickness + bow) * hypot(nx, ny)
         # min(1, max(0, along)) as comparisons (the same choices, ties and NaN included), as
         # this runs for every wafer at the beam's height.
         along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd

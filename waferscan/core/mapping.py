@@ -134,12 +134,18 @@ class SlotPlan:
         return min(self.slot_count, max(1, _nearest_slot(self, z)))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class SlotState:
     slot: int
     seat_z: float
     state: int
     runs: tuple  # indices into the run list given to ``map_slots``
+
+    def __init__(self, slot, seat_z, state, runs):
+        # Straight into the instance's dict: a frozen dataclass's own __init__ sets each field
+        # through object.__setattr__, at nearly twice the cost, and a scan makes one a slot.
+        fields = self.__dict__
+        fields["slot"], fields["seat_z"], fields["state"], fields["runs"] = slot, seat_z, state, runs
 
 
 @dataclass(frozen=True)
@@ -163,36 +169,60 @@ def _nearest_slot(plan, z):
 def judge_run(plan, bottom, top):
     """Which slots a run (bottom, top in scan Z, bottom <= top) speaks for and what it says:
     a list of (slot, state), by the plan's rule set. Slots outside 1..slot_count are left out."""
+    return run_judge(plan)(bottom, top)
+
+
+def run_judge(plan):
+    """``judge_run`` for one plan, as a function of (bottom, top): what depends on the plan
+    alone (its rule set and limits) worked out once for all of a scan's runs."""
     if plan.rules == BOUNDARY:
-        found = _judge_by_boundaries(plan, bottom, top)
-    else:
-        found = _judge_by_bottom_edge(plan, bottom, top)
-    return [(slot, state) for slot, state in found if 1 <= slot <= plan.slot_count]
+        count = plan.slot_count
+
+        def judged(bottom, top):
+            return [(slot, state) for slot, state in _judge_by_boundaries(plan, bottom, top)
+                    if 1 <= slot <= count]
+
+        return judged
+    return _bottom_edge_judge(plan)
 
 
 def _judge_by_bottom_edge(plan, bottom, top):
-    """SPEC §4: a run longer than the double limit is cross-slotted (both slots around its
-    midpoint); any other run belongs to the seat nearest its bottom edge and is judged first by
-    position, then by thickness."""
-    length = plan.corrected(top - bottom)
+    return _bottom_edge_judge(plan)(bottom, top)
+
+
+def _bottom_edge_judge(plan):
+    """SPEC §4 for one plan, as a function of (bottom, top) giving ``judge_run``'s list: a run
+    longer than the double limit is cross-slotted (both slots around its midpoint); any other
+    run belongs to the seat nearest its bottom edge and is judged first by position, then by
+    thickness. The plan's limits are read once here, with LIMIT_SLACK added as each comparison
+    adds it (the same sums, so the same floats); ``_nearest_slot`` and ``seat_z`` are written
+    out, as this runs for every run of a scan."""
     eps = LIMIT_SLACK
-    if length > plan.double_limit() + eps:
-        middle = 0.5 * (bottom + top)
-        lower = int(math.floor((middle - plan.first_slot_z) / plan.pitch)) + 1
-        return [(lower, CROSS), (lower + 1, CROSS)]
-    slot = _nearest_slot(plan, bottom)
-    offset = bottom - plan.seat_z(slot)
+    double = plan.double_limit() + eps
     below, above = plan.position_window()
+    above, below = above + eps, below + eps
     low, high = plan.thickness_window()
-    if offset > above + eps or -offset > below + eps:
-        state = POSITION_ERROR
-    elif length < low - eps:
-        state = THIN
-    elif length <= high + eps:
-        state = PRESENT
-    else:
-        state = DOUBLE
-    return [(slot, state)]
+    low, high = low - eps, high + eps
+    first, pitch, count = plan.first_slot_z, plan.pitch, plan.slot_count
+    correction = plan.thickness_correction
+    floor = math.floor
+
+    def judge(bottom, top):
+        length = top - bottom if correction == 1.0 else (top - bottom) / correction
+        if length > double:
+            lower = int(floor((0.5 * (bottom + top) - first) / pitch)) + 1
+            return [(slot, CROSS) for slot in (lower, lower + 1) if 1 <= slot <= count]
+        slot = int(floor((bottom - first) / pitch + 0.5)) + 1
+        if not 1 <= slot <= count:
+            return []
+        offset = bottom - (first + (slot - 1) * pitch)
+        if offset > above or -offset > below:
+            return [(slot, POSITION_ERROR)]
+        if length < low:
+            return [(slot, THIN)]
+        return [(slot, PRESENT if length <= high else DOUBLE)]
+
+    return judge
 
 
 def _judge_by_boundaries(plan, bottom, top):
@@ -241,6 +271,11 @@ def unscanned_slots(plan, scanned):
     if scanned is None:
         return list(range(1, plan.slot_count + 1))
     low, high = scanned
+    # The windows rise with the slot (seat_z is first + (slot - 1) * pitch, pitch > 0): when
+    # the lowest starts and the highest ends inside, every window is inside, as most scans'.
+    if plan.window(1)[0] >= low - LIMIT_SLACK and plan.window(plan.slot_count)[1] <= high + \
+            LIMIT_SLACK:
+        return []
     outside = []
     for slot in range(1, plan.slot_count + 1):
         bottom, top = plan.window(slot)
@@ -254,26 +289,36 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
     slots a protrusion check flagged (state 6); ``unscanned`` the slots whose window the scan did
     not wholly cover: whatever their runs say is not known, so they are ``?`` (SPEC §3). The
     load port's protrusion check does not depend on the scan: 6 outranks ``?`` too."""
-    states = {slot: EMPTY for slot in range(1, plan.slot_count + 1)}
-    members = {slot: [] for slot in states}
+    count = plan.slot_count
+    judge = run_judge(plan)
+    rank = _RANK
+    # By slot number (index 0 unused): a scan maps every slot, once. A slot's list of runs is
+    # made when its first run comes (most slots of a scan have one run or none).
+    states = [EMPTY] * (count + 1)
+    members = [None] * (count + 1)
     for index, (bottom, top) in enumerate(runs):
-        two_runs_in_one_slot = set()
-        for slot, state in judge_run(plan, bottom, top):
-            if members[slot] and state != CROSS:
-                # A second run in a slot is not a normally inserted wafer.
-                two_runs_in_one_slot.add(slot)
-            members[slot].append(index)
-            if _RANK[state] > _RANK[states[slot]]:
+        two_runs_in_one_slot = None
+        for slot, state in judge(bottom, top):
+            held = members[slot]
+            if held is None:
+                members[slot] = [index]
+            else:
+                if state != CROSS:
+                    # A second run in a slot is not a normally inserted wafer.
+                    two_runs_in_one_slot = (two_runs_in_one_slot or []) + [slot]
+                held.append(index)
+            if rank[state] > rank[states[slot]]:
                 states[slot] = state
-        for slot in two_runs_in_one_slot:
-            if _RANK[POSITION_ERROR] > _RANK[states[slot]]:
+        for slot in two_runs_in_one_slot or ():
+            if rank[POSITION_ERROR] > rank[states[slot]]:
                 states[slot] = POSITION_ERROR
     for slot in unscanned:
-        if slot in states:
+        if 1 <= slot <= count:
             states[slot] = UNSCANNED
     for slot in protruding_slots:
-        if slot in states:
+        if 1 <= slot <= count:
             states[slot] = PROTRUDING
-    # states' keys are 1..slot_count in order already: sorted(states) is that range
-    return SlotMap(tuple([SlotState(slot, plan.seat_z(slot), states[slot], tuple(members[slot]))
-                          for slot in range(1, plan.slot_count + 1)]))
+    first, pitch = plan.first_slot_z, plan.pitch  # seat_z(slot), written out
+    return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, states[slot],
+                                    () if members[slot] is None else tuple(members[slot]))
+                          for slot in range(1, count + 1)]))

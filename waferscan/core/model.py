@@ -206,6 +206,14 @@ class Layout:
     @property
     def scanned_carrier(self):
         """The carrier whose slots the code describes."""
+        # The clear choices first, as every scan asks: the one carrier, or the first so named.
+        if self.carrier is None:
+            if len(self.carriers) == 1:
+                return self.carriers[0]
+        else:
+            for carrier in self.carriers:
+                if carrier.name == self.carrier:
+                    return carrier
         from .rules import SEVERAL_CARRIERS, carrier_choice_problem
 
         problem = carrier_choice_problem([c.name for c in self.carriers], self.carrier)

@@ -19,7 +19,8 @@ from .model import SLOW
 # named here too, where callers have always found them.
 from .scan_result import (ScanResult, SensorRun, WaferInterval, _carrier_wafers,  # noqa: F401
                           _exact_intervals, _run_wafers, _stepped_intervals, _window, latch,
-                          protruding_slots, protrusion, scan_warnings, scanned_range, slot_plan)
+                          latcher, protruding_slots, protrusion, scan_warnings, scanned_range,
+                          slot_plan)
 
 
 def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None):
@@ -43,7 +44,8 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
         run_spans, wafer_spans = _exact_intervals(hits, window)
     else:
         run_spans, wafer_spans = _stepped_intervals(hits, scan, window)
-    latched = [latch(bottom, top, scan) for bottom, top in run_spans]
+    latch_run = latcher(scan)
+    latched = [latch_run(bottom, top) for bottom, top in run_spans]
     runs = [SensorRun(z_in, z_out, names, span)
             for (z_in, z_out), span, names in zip(latched, run_spans,
                                                   _run_wafers(run_spans, layout.wafers,
@@ -66,8 +68,8 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
         if scan.jab > 0.0:  # the robot's own sensor judges protrusion (§13)
             flagged = jabbed
     # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
-    slot_map = map_slots(plan, [(min(z_in, z_out), max(z_in, z_out)) for z_in, z_out in latched],
-                         flagged, unscanned)
+    slot_map = map_slots(plan, [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
+                                for z_in, z_out in latched], flagged, unscanned)
     slot_map = slow_scan.with_position_errors(slot_map, swept_off)
     # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
     probe_warnings += [why for slot, why in sorted(dict(swept_off).items())

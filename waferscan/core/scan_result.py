@@ -7,16 +7,17 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left, bisect_right
+from operator import attrgetter
 from dataclasses import dataclass
 
 from .engines import reachable_wafers
-from .geometry import wafer_bounds
+from .geometry import LEVEL, PRE_REJECT_SLACK, wafer_bounds
 from .mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
 from .model import DOWN, SLOW, UP, UPDOWN
 from .recipe import recipe_fields
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class SensorRun:
     """A run of the sensor signal as latched: IN where the beam got blocked, OUT where it was
     last blocked, in the order of motion. ``wafers`` names the wafers that caused it (the
@@ -28,6 +29,12 @@ class SensorRun:
     # (bottom, top): the scan positions of its first and last blocked step before latching, in
     # ascending Z (what the geometry says; IN and OUT trail them by the latch lag).
     unlatched: tuple | None = None
+
+    def __init__(self, z_in, z_out, wafers=(), unlatched=None):
+        # Straight into the instance's dict (as mapping.SlotState): a scan makes one a run.
+        fields = self.__dict__
+        fields["z_in"], fields["z_out"] = z_in, z_out
+        fields["wafers"], fields["unlatched"] = wafers, unlatched
 
     @property
     def diff(self):
@@ -42,13 +49,18 @@ class SensorRun:
         return max(self.z_in, self.z_out)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WaferInterval:
     """First and last scan position (ascending Z, unlatched) at which the beam meets a wafer."""
 
     name: str
     z_in: float | None
     z_out: float | None
+
+    def __init__(self, name, z_in, z_out):
+        # Straight into the instance's dict (as mapping.SlotState): a scan makes one a wafer.
+        fields = self.__dict__
+        fields["name"], fields["z_in"], fields["z_out"] = name, z_in, z_out
 
     @property
     def diff(self):
@@ -138,6 +150,12 @@ def _stepped_intervals(hits, scan, window):
         k_hi = min(hits.count - 1, math.floor((window[1] - scan.start_z) / scan.z_step))
 
     start, step = scan.start_z, scan.z_step
+    if window is None:
+        # Every step interval an engine gives lies in 0 .. count - 1 already: clipped to that,
+        # each is itself (span's max and min choose its own ends), as scan positions.
+        return ([(start + first * step, start + last * step) for first, last in hits.runs],
+                [None if w is None else (start + w[0] * step, start + w[1] * step)
+                 for w in hits.wafer_steps])
 
     def span(interval):
         """The interval clipped to [k_lo, k_hi], as scan positions (``scan.position``'s
@@ -169,14 +187,21 @@ def _exact_intervals(hits, window):
 
 def latch(bottom, top, scan):
     """(IN, OUT) of a run as the sensor latches it in the scan's direction of motion."""
+    return latcher(scan)(bottom, top)
+
+
+def latcher(scan):
+    """``latch`` for one scan, as a function of (bottom, top): the lag and the direction read
+    once for all of a scan's runs."""
     lag = scan.latch_lag
     if scan.mode == SLOW or scan.direction == UP:
-        return bottom + lag, top + lag
+        return lambda bottom, top: (bottom + lag, top + lag)
     if scan.direction == DOWN:
-        return top - lag, bottom - lag
+        return lambda bottom, top: (top - lag, bottom - lag)
     assert scan.direction == UPDOWN
     # Up stroke latches bottom + lag, down stroke bottom - lag: the mean cancels the lag.
-    return (0.5 * ((bottom + lag) + (bottom - lag)), 0.5 * ((top + lag) + (top - lag)))
+    return lambda bottom, top: (0.5 * ((bottom + lag) + (bottom - lag)),
+                                0.5 * ((top + lag) + (top - lag)))
 
 
 def protrusion(carrier, wafer):
@@ -193,19 +218,51 @@ def protrusion(carrier, wafer):
 
 def _carrier_wafers(carrier, wafers):
     """The wafers inside the carrier's footprint and slot range."""
+    return (wafer for wafer, _ in _carrier_protrusions(carrier, wafers))
+
+
+def _carrier_protrusions(carrier, wafers):
+    """[(wafer, ``protrusion(carrier, wafer)``)] for each wafer inside the carrier's footprint and
+    slot range: one pass with the carrier's values read once, as this runs for every wafer of a
+    fab at every scan. ``wafer.mid_center`` and ``protrusion``'s sums are written out term for
+    term (the same floats; tests/core/test_fixed_cost.py), Z first: most of a fab's wafers lie
+    in other carriers."""
     r = 0.5 * carrier.wafer_diameter
     z_lo = carrier.seat_z(1) - carrier.pitch
     z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
     ox, oy = carrier.center
-    hypot = math.hypot
+    fx, fy = carrier.front
+    hypot, sqrt = math.hypot, math.sqrt
+    found = []
+    wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
     for wafer in wafers:
-        # wafer.mid_center, coordinate by coordinate (the same sums), Z first: cheaper than the
-        # property's tuple for each of a fab's wafers, most of which lie in other carriers.
+        (cx, cy, cz), normal = wafer.center, wafer.normal
         h = wafer.thickness / 2.0
-        (cx, cy, cz), (nx, ny, nz) = wafer.center, wafer.normal
-        mz = cz + h * nz
-        if z_lo <= mz <= z_hi and hypot((cx + h * nx) - ox, (cy + h * ny) - oy) < r:
-            yield wafer
+        if normal == LEVEL:
+            # n = (0, 0, 1): cz + h * 1 = cz + h, cx + h * 0 = cx (but for a -0.0, which no
+            # distance or sum below tells from 0.0), as for most of a fab's wafers; those of
+            # the other carriers are left out by X or Y alone
+            if cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide:
+                continue
+            nx = ny = 0.0
+            mz = cz + h
+            if not z_lo <= mz <= z_hi:
+                continue
+            mx, my = cx, cy
+        else:
+            nx, ny, nz = normal
+            mz = cz + h * nz
+            if not z_lo <= mz <= z_hi:
+                continue
+            mx, my = cx + h * nx, cy + h * ny
+        if hypot(mx - ox, my - oy) < r:
+            along_front = nx * fx + ny * fy
+            reach = (mx - ox) * fx + (my - oy) * fy
+            across = 1.0 - along_front * along_front
+            # sqrt(max(0.0, across)), max's choice written out (NaN and -0.0 give 0.0 too)
+            reach += wafer.diameter / 2.0 * (sqrt(across) if across > 0.0 else 0.0)
+            found.append((wafer, reach - r))
+    return found
 
 
 def protruding_slots(carrier, plan, wafers):
@@ -216,10 +273,10 @@ def protruding_slots(carrier, plan, wafers):
     spans (a tilted, cross-slotted wafer occupies both of its slots)."""
     slots = set()
     found = []
-    for wafer in _carrier_wafers(carrier, wafers):
-        amount = protrusion(carrier, wafer)
+    limit = plan.protrusion_limit
+    for wafer, amount in _carrier_protrusions(carrier, wafers):
         found.append((wafer.name, amount))
-        if amount > plan.protrusion_limit:
+        if amount > limit:
             (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
             slots.add(plan.nearest_slot(z0))
             for slot in range(1, plan.slot_count + 1):
@@ -244,6 +301,9 @@ def scanned_range(scan, window=None):
     return (scan.position(k_lo), scan.position(k_hi)) if k_lo <= k_hi else None
 
 
+_thickness = attrgetter("thickness")
+
+
 def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
     """Why parts of a scan's result cannot be known (SPEC §3 "Honest results"), one sentence
     each: a step coarser than half the thinnest wafer, slots whose window the scan did not
@@ -253,7 +313,7 @@ def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
     scan = layout.scan
     warnings = []
     coarse = not scan.exact and scan.z_step > 0.5 * min(
-        [plan.wafer_thickness] + [w.thickness for w in layout.wafers]) + LIMIT_SLACK
+        plan.wafer_thickness, min(map(_thickness, layout.wafers), default=math.inf)) + LIMIT_SLACK
     if coarse:
         # Only the wafers the beam can reach count (the accessibility check, run only here).
         reachable = reachable_wafers(layout)
@@ -268,9 +328,12 @@ def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
         warnings.append(f"slot{'s' if len(unscanned) > 1 else ''} {slots} of {plan.slot_count} "
                         f"not wholly inside the scanned range ({where}): reported unscanned (?)")
     if visited is not None:
+        first, last = visited[0] + LIMIT_SLACK, visited[1] - LIMIT_SLACK
         for bottom, top in run_spans:
-            ends = [name for name, cut in (("start", bottom <= visited[0] + LIMIT_SLACK),
-                                           ("end", top >= visited[1] - LIMIT_SLACK)) if cut]
+            if first < bottom and top < last:
+                continue  # inside the range, as most runs are: nothing to say
+            ends = [name for name, cut in (("start", bottom <= first), ("end", top >= last))
+                    if cut]
             if ends:
                 warnings.append(f"the sensor run from {bottom:.3f} to {top:.3f} mm is cut off by "
                                 f"the {' and the '.join(ends)} of the scanned range: its length "
@@ -283,9 +346,14 @@ def _run_wafers(run_spans, wafers, wafer_spans):
     layout's order. The runs are disjoint, so sorted by bottom their tops ascend too: each
     wafer finds its runs by bisection, O((runs + wafers) log runs) where a search of every
     wafer for every run was O(runs x wafers) (10,000 wafers: seconds)."""
-    order = sorted(range(len(run_spans)), key=lambda i: run_spans[i][0])
-    bottoms = [run_spans[i][0] for i in order]
-    tops = [run_spans[i][1] for i in order]
+    bottoms = [bottom for bottom, _ in run_spans]
+    if bottoms == sorted(bottoms):  # as an engine gives them: no reordering
+        order = range(len(run_spans))
+        tops = [top for _, top in run_spans]
+    else:
+        order = sorted(range(len(run_spans)), key=lambda i: run_spans[i][0])
+        bottoms = [run_spans[i][0] for i in order]
+        tops = [run_spans[i][1] for i in order]
     names = [[] for _ in run_spans]
     for wafer, span in zip(wafers, wafer_spans):
         if span is None:
