@@ -50,12 +50,20 @@ def runs_from_blocked(blocked):
 
 def runs_from_intervals(intervals):
     """Union of closed step intervals as runs; intervals that touch or are adjacent merge."""
+    present = [i for i in intervals if i is not None]
+    if not present:
+        return ()
+    present.sort()
     runs = []
-    for first, last in sorted(i for i in intervals if i is not None):
-        if runs and first <= runs[-1][1] + 1:
-            runs[-1] = (runs[-1][0], max(runs[-1][1], last))
+    run_first, run_last = present[0]
+    for first, last in present:
+        if first <= run_last + 1:  # (the first interval meets itself)
+            if last > run_last:
+                run_last = last
         else:
-            runs.append((first, last))
+            runs.append((run_first, run_last))
+            run_first, run_last = first, last
+    runs.append((run_first, run_last))
     return tuple(runs)
 
 

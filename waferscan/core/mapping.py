@@ -134,18 +134,12 @@ class SlotPlan:
         return min(self.slot_count, max(1, _nearest_slot(self, z)))
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(slots=True, unsafe_hash=True)  # logically immutable, as scan_result.SensorRun
 class SlotState:
     slot: int
     seat_z: float
     state: int
     runs: tuple  # indices into the run list given to ``map_slots``
-
-    def __init__(self, slot, seat_z, state, runs):
-        # Straight into the instance's dict: a frozen dataclass's own __init__ sets each field
-        # through object.__setattr__, at nearly twice the cost, and a scan makes one a slot.
-        fields = self.__dict__
-        fields["slot"], fields["seat_z"], fields["state"], fields["runs"] = slot, seat_z, state, runs
 
 
 @dataclass(frozen=True)

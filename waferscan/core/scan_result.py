@@ -17,7 +17,12 @@ from .model import DOWN, SLOW, UP, UPDOWN
 from .recipe import recipe_fields
 
 
-@dataclass(frozen=True, init=False)
+# The records a scan makes by the hundred (a run, a wafer's interval, mapping.SlotState) are
+# logically immutable: nothing changes one after the scan. They are slotted dataclasses hashed
+# by their fields (unsafe_hash) rather than frozen ones: a frozen dataclass sets each field
+# through object.__setattr__ and keeps a dict per record, which made them a tenth of a fab's
+# scan_layout.
+@dataclass(slots=True, unsafe_hash=True)
 class SensorRun:
     """A run of the sensor signal as latched: IN where the beam got blocked, OUT where it was
     last blocked, in the order of motion. ``wafers`` names the wafers that caused it (the
@@ -29,12 +34,6 @@ class SensorRun:
     # (bottom, top): the scan positions of its first and last blocked step before latching, in
     # ascending Z (what the geometry says; IN and OUT trail them by the latch lag).
     unlatched: tuple | None = None
-
-    def __init__(self, z_in, z_out, wafers=(), unlatched=None):
-        # Straight into the instance's dict (as mapping.SlotState): a scan makes one a run.
-        fields = self.__dict__
-        fields["z_in"], fields["z_out"] = z_in, z_out
-        fields["wafers"], fields["unlatched"] = wafers, unlatched
 
     @property
     def diff(self):
@@ -49,18 +48,13 @@ class SensorRun:
         return max(self.z_in, self.z_out)
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(slots=True, unsafe_hash=True)  # logically immutable (see SensorRun)
 class WaferInterval:
     """First and last scan position (ascending Z, unlatched) at which the beam meets a wafer."""
 
     name: str
     z_in: float | None
     z_out: float | None
-
-    def __init__(self, name, z_in, z_out):
-        # Straight into the instance's dict (as mapping.SlotState): a scan makes one a wafer.
-        fields = self.__dict__
-        fields["name"], fields["z_in"], fields["z_out"] = name, z_in, z_out
 
     @property
     def diff(self):
