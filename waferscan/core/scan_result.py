@@ -219,8 +219,9 @@ def _carrier_protrusions(carrier, wafers):
     """[(wafer, ``protrusion(carrier, wafer)``)] for each wafer inside the carrier's footprint and
     slot range: one pass with the carrier's values read once, as this runs for every wafer of a
     fab at every scan. ``wafer.mid_center`` and ``protrusion``'s sums are written out term for
-    term (the same floats; tests/core/test_fixed_cost.py), Z first: most of a fab's wafers lie
-    in other carriers."""
+    term (the same floats; tests/core/test_fixed_cost.py), without a level wafer's zero terms;
+    a level wafer further from the carrier's centre in X or Y alone than the circle is left out
+    first (most of a fab's wafers lie in other carriers)."""
     r = 0.5 * carrier.wafer_diameter
     z_lo = carrier.seat_z(1) - carrier.pitch
     z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
@@ -231,28 +232,28 @@ def _carrier_protrusions(carrier, wafers):
     wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
     for wafer in wafers:
         (cx, cy, cz), normal = wafer.center, wafer.normal
-        h = wafer.thickness / 2.0
         if normal == LEVEL:
             # n = (0, 0, 1): cz + h * 1 = cz + h, cx + h * 0 = cx (but for a -0.0, which no
             # distance or sum below tells from 0.0), as for most of a fab's wafers; those of
             # the other carriers are left out by X or Y alone
             if cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide:
                 continue
-            nx = ny = 0.0
-            mz = cz + h
+            mz = cz + wafer.thickness / 2.0
             if not z_lo <= mz <= z_hi:
                 continue
             mx, my = cx, cy
+            across = 1.0  # 1 - (n.front)^2 with n.front = 0 * fx + 0 * fy = 0
         else:
+            h = wafer.thickness / 2.0
             nx, ny, nz = normal
             mz = cz + h * nz
             if not z_lo <= mz <= z_hi:
                 continue
             mx, my = cx + h * nx, cy + h * ny
-        if hypot(mx - ox, my - oy) < r:
             along_front = nx * fx + ny * fy
-            reach = (mx - ox) * fx + (my - oy) * fy
             across = 1.0 - along_front * along_front
+        if hypot(mx - ox, my - oy) < r:
+            reach = (mx - ox) * fx + (my - oy) * fy
             # sqrt(max(0.0, across)), max's choice written out (NaN and -0.0 give 0.0 too)
             reach += wafer.diameter / 2.0 * (sqrt(across) if across > 0.0 else 0.0)
             found.append((wafer, reach - r))
