@@ -83,7 +83,12 @@ def local_cluster(workers):
                  "distributed.core", "distributed.worker"):
         logging.getLogger(name).setLevel(logging.ERROR)
     _python_for_workers()
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": _worker_environ()}):
+    # Dask's statistical profiler samples each worker's task thread every 10 ms (taking the
+    # GIL and walking its stack) for a dashboard page the user does not see here: with it, one
+    # worker swept ~15 % slower than this process did (100,000 layouts: 5.21 s against 4.39 s;
+    # without it 4.41 s against 4.17 s).
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": _worker_environ(),
+                          "distributed.worker.profile.enabled": False}):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                             dashboard_address=":0", silence_logs=logging.ERROR)
 

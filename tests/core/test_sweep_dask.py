@@ -177,6 +177,26 @@ def test_local_workers_keep_glibcs_adaptive_memory_trim(tol_file):
     assert seen == [(None, "1")]
 
 
+def _profiling():
+    import dask
+
+    return dask.config.get("distributed.worker.profile.enabled")
+
+
+def test_local_workers_do_not_sample_their_tasks_for_a_dashboard_profile(tol_file):
+    """Dask's profiler sampled each worker's task thread every 10 ms: one worker swept ~15 %
+    slower than one process. The local cluster's workers run without it."""
+    from distributed import Client
+
+    cluster = tolerance_study.local_cluster(1)
+    try:
+        with Client(cluster) as client:
+            seen = list(client.run(_profiling).values())
+    finally:
+        cluster.close()
+    assert seen == [False]
+
+
 def test_an_out_that_cannot_be_a_folder_is_refused_before_the_sweep(tmp_path, capsys):
     """--out naming a file was refused only after the whole sweep, its results lost."""
     taken = tmp_path / "afile"
