@@ -260,17 +260,20 @@ def _settler(layout):
     start, step, last_k = scan.start_z, scan.z_step, scan.last_step
     scan_size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]))
     ceil, floor = math.ceil, math.floor
+    scan_margin = SETTLED_MARGIN * scan_size / step  # the margin of edges inside the scan's size
 
     def settled(edges):
         e0, e1 = edges
         # max(scan_size, |e0|, |e1|) as comparisons (max's own: a later value replaces the
-        # largest so far only when greater)
-        size, a, b = scan_size, abs(e0), abs(e1)
-        if a > size:
-            size = a
-        if b > size:
-            size = b
-        margin = SETTLED_MARGIN * size / step
+        # largest so far only when greater), and the margin of that size
+        a, b = abs(e0), abs(e1)
+        if a > scan_size or b > scan_size:
+            size = a if a > scan_size else scan_size
+            if b > size:
+                size = b
+            margin = SETTLED_MARGIN * size / step
+        else:
+            margin = scan_margin
         x0 = (e0 - start) / step
         x1 = (e1 - start) / step
         lo, hi = ceil(x0), floor(x1)
