@@ -12,8 +12,13 @@ from PySide import QtCore, QtGui
 def probe():
     result = {"ok": False}
     try:
+        report = Gui.getMainWindow().findChild(QtGui.QTextEdit, "Report view")
+        before = report.toPlainText() if report is not None else ""
         doc = App.openDocument(os.environ["WAFERSCAN_GUI_LAYOUT"])
         Gui.updateGui()
+        # What opening the file wrote to the report view (an error there pops the view up)
+        result["report"] = (report.toPlainText()[len(before):] if report is not None
+                            else None)
         result["shown"] = {o.Label: bool(o.ViewObject.Visibility) for o in doc.Objects
                            if o.ViewObject is not None and o.TypeId not in
                            ("App::Origin", "App::Line", "App::Plane")}

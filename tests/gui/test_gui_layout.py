@@ -19,6 +19,9 @@ def test_headless_layout_opens_visible_in_the_gui(run_gui_probe, tmp_path):
         SCREENSHOT.unlink()
     result = run_gui_probe(PROBE, WAFERSCAN_GUI_LAYOUT=str(layout),
                            WAFERSCAN_GUI_SCREENSHOT=str(SCREENSHOT))
+    # Opened without a word in the report view: the view data written headless once lacked the
+    # camera FreeCAD reads after it ("Reading failed from embedded file: GuiDocument.xml").
+    assert result["report"] == ""
     shown = result["shown"]
     for label in ["LP1", "LP1 assembly", "Robot", "robot fork", "Scanner"] + \
             [f"LP1_W{i:02d}" for i in range(1, 11)]:

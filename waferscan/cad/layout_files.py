@@ -146,8 +146,11 @@ def _add_view_data(doc, path):
                     f'                </Property>\n'
                     f'            </Properties>\n'
                     f'        </ViewProvider>')
+    # FreeCAD 0.20 reads a <Camera> element after the view providers and reports the file as
+    # failed to read without one (the report view pops up); empty settings keep the 3D view's
+    # own camera, as a new document has.
     xml = ('<?xml version=\'1.0\' encoding=\'utf-8\'?>\n<Document SchemaVersion="1">\n'
            f'    <ViewProviderData Count="{len(rows)}">\n' + "\n".join(rows) +
-           '\n    </ViewProviderData>\n</Document>\n')
+           '\n    </ViewProviderData>\n    <Camera settings=""/>\n</Document>\n')
     with zipfile.ZipFile(path, "a", zipfile.ZIP_DEFLATED) as archive:
         archive.writestr("GuiDocument.xml", xml)
