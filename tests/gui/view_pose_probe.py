@@ -10,6 +10,7 @@ from probe_steps import finish, result, start, wait_for  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
+from PySide import QtCore  # noqa: E402
 
 state = {}
 
@@ -41,6 +42,7 @@ def begin():
                                    show_results=False, panel=True)
     state["animation"] = animation
     result["view_pose"] = animation.pose is not None
+    result["timer_precise"] = animation.timer.timerType() == QtCore.Qt.PreciseTimer
     moved = [obj for obj, _ in animation.mover.placements_at(animation.scan.start_z)]
     state["moved"] = moved
     result["moved"] = [o.Name for o in moved]
