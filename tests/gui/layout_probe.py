@@ -22,6 +22,10 @@ def probe():
         result["shown"] = {o.Label: bool(o.ViewObject.Visibility) for o in doc.Objects
                            if o.ViewObject is not None and o.TypeId not in
                            ("App::Origin", "App::Line", "App::Plane")}
+        # The Parts' origins (axes, planes): the GUI hides them in a Part it makes.
+        result["origins_shown"] = {o.Name: bool(o.ViewObject.Visibility) for o in doc.Objects
+                                   if o.ViewObject is not None and o.TypeId in
+                                   ("App::Origin", "App::Line", "App::Plane")}
         view = Gui.getDocument(doc.Name).ActiveView
         view.viewIsometric()
         view.fitAll()

@@ -107,7 +107,7 @@ def save_document(doc, path):
         raise InputError(path, None, f"no folder {path.parent}")
     temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
     try:
-        with binary_shapes():
+        with binary_shapes(), _origins_hidden(doc):
             doc.saveAs(str(temporary))
         if not App.GuiUp:
             _add_view_data(doc, temporary)
@@ -130,15 +130,39 @@ def _xml_attribute(text):
     return f'"{text}"'
 
 
+ORIGIN_TYPES = ("App::Origin", "App::Line", "App::Plane")  # an App::Part's origin features
+
+
+@contextmanager
+def _origins_hidden(doc):
+    """Without the GUI, the Parts' origins saved hidden, as the GUI makes them: the GUI opening
+    the file shows an object as its own Visibility (Document.xml) says, whatever the view data
+    (GuiDocument.xml) says. Put back afterwards: saving changes nothing in the document."""
+    shown = [] if App.GuiUp else [obj for obj in doc.Objects
+                                   if obj.TypeId in ORIGIN_TYPES and obj.Visibility]
+    for obj in shown:
+        obj.Visibility = False
+    try:
+        yield
+    finally:
+        for obj in shown:
+            obj.Visibility = True
+
+
 def _add_view_data(doc, path):
     """FreeCAD quirk: a document saved without the GUI has no GuiDocument.xml, and the GUI then
     opens its C++ features (cylinders, parts, link solids) hidden. Write the view data FreeCAD
-    would have written: each object shown as its own Visibility says (origins stay hidden)."""
+    would have written: each object shown as its own Visibility says, but an App::Part's origin
+    (its axes and planes) hidden, as the GUI makes it. Left out, the GUI showed the origins:
+    the robot's planes, axes and their 3D labels over the scene, resized at every frame of an
+    animated scan (FreeCAD sizes an origin to its Part's bounding box, which the moving links
+    change), their labels drawn in a pass of their own (annotations, after the scene)."""
     rows = []
     for obj in doc.Objects:
-        if obj.TypeId in ("App::Origin", "App::Line", "App::Plane"):
-            continue
-        shown = "true" if getattr(obj, "Visibility", True) else "false"
+        if obj.TypeId in ORIGIN_TYPES:
+            shown = "false"
+        else:
+            shown = "true" if getattr(obj, "Visibility", True) else "false"
         rows.append(f'        <ViewProvider name={_xml_attribute(obj.Name)} expanded="0">\n'
                     f'            <Properties Count="1">\n'
                     f'                <Property name="Visibility" type="App::PropertyBool">\n'

@@ -200,6 +200,14 @@ class RobotMover:
     def move_to(self, z):
         apply_pose(self.robot, self.holder, self.links, self.scanner, self.joints_at(z))
 
+    def placements_at(self, z):
+        """[(object, Placement)]: where move_to(z) puts each link and the scanner, without
+        putting them there (the GUI's animation shows them in the 3D view only)."""
+        placements = self.robot.link_placements(self.joints_at(z))
+        moved = [(obj, placement_of(*placements[name])) for name, obj in self.links.items()]
+        moved.append((self.scanner, placement_of(*placements[SCANNER_LINK])))
+        return moved
+
     def restore(self):
         apply_pose(self.robot, self.holder, self.links, self.scanner, self.start)
 

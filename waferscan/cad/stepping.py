@@ -57,9 +57,15 @@ class ScannerMover:
 
     def move_to(self, z):
         """Put the emitter at scan position z."""
+        for obj, placement in self.placements_at(z):
+            obj.Placement = placement
+
+    def placements_at(self, z):
+        """[(object, Placement)]: where move_to(z) puts the scanner, without putting it there
+        (the GUI's animation shows it in the 3D view only)."""
         moved = App.Placement(self.start)
         moved.Base = self.start.Base + self.axis * ((z - self.z0) / self.axis.z)
-        self.obj.Placement = self.parent_inverse.multiply(moved)
+        return [(self.obj, self.parent_inverse.multiply(moved))]
 
     def restore(self):
         self.obj.Placement = self.original

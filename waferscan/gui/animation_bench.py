@@ -1,7 +1,7 @@
 """Run inside the FreeCAD GUI (``freecad this_file.py``): measure how many placement updates a
 second the 3D view shows while the GUI's scan animation plays the demo layout as **Run scan**
-plays it (``commands.play_scan``: the ``ScanAnimation``, a QTimer that only sets placements, no
-recompute, with its task panel: position, progress and the live signal trace), and the longest
+plays it (``commands.play_scan``: the ``ScanAnimation``, a QTimer that places the robot in the 3D
+view, no recompute, with its task panel: position, progress and the live signal trace), and the longest
 stall. Writes a JSON result to $WAFERSCAN_BENCH_RESULT and quits.
 
 What counts is what the user sees: a **frame shown** is a render of the 3D view (counted by a
