@@ -33,6 +33,7 @@ Workloads:
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import json
 import os
@@ -501,24 +502,66 @@ def _answered_history(folder, layout_path, lines):
     os.replace(temporary, Path(folder) / COMMANDS)
 
 
-def mcs_idle(layout_path, lines, seconds, settle=3.0):
-    """CPU seconds a second that an idle watcher spends on a folder with ``lines`` answered
-    commands, over ``seconds``, after ``settle`` seconds for its start-up."""
-    with tempfile.TemporaryDirectory() as folder:
-        _answered_history(folder, layout_path, lines)
-        watcher = Watcher(folder, layout_path)
-        try:
-            time.sleep(settle)
-            cpu0, wall0 = watcher.cpu_seconds(), time.perf_counter()
+def mcs_idle(layout_path, histories, seconds, rounds=3, settle=3.0):
+    """{lines: CPU seconds a second} that an idle watcher spends on a folder with ``lines``
+    answered commands, for each of ``histories``: one watcher a history, all running at once
+    after ``settle`` seconds for their start-up, each figure the median over ``rounds`` windows
+    of ``seconds`` that all the watchers share. Measured one history after the other (5 s
+    each), the same code gave 2.9 ms a second at 10 lines and 5.2 at 100,000 in one run, 5.9
+    and 5.1 in the run before: the machine's moment, not the history."""
+    with contextlib.ExitStack() as stack:
+        watchers = {}
+        for lines in histories:
+            folder = stack.enter_context(tempfile.TemporaryDirectory())
+            _answered_history(folder, layout_path, lines)
+            watchers[lines] = (folder, Watcher(folder, layout_path))
+            stack.callback(watchers[lines][1].stop)
+        time.sleep(settle)
+        samples = {lines: [] for lines in histories}
+        for _ in range(rounds):
+            start = {lines: w.cpu_seconds() for lines, (_, w) in watchers.items()}
+            wall0 = time.perf_counter()
             time.sleep(seconds)
-            cpu1, wall1 = watcher.cpu_seconds(), time.perf_counter()
+            wall = time.perf_counter() - wall0
+            for lines, (_, watcher) in watchers.items():
+                samples[lines].append((watcher.cpu_seconds() - start[lines]) / wall)
+        for lines, (folder, watcher) in watchers.items():
             if not watcher.alive():
                 raise RuntimeError("the watcher ended while idle")
             if answered(folder) != lines:
                 raise RuntimeError(f"an idle watcher answered again ({answered(folder)})")
-        finally:
-            watcher.stop()
-    return (cpu1 - cpu0) / (wall1 - wall0)
+    return {lines: statistics.median(taken) for lines, taken in samples.items()}
+
+
+def mcs_poll_cost(layout_path, histories, rounds=5, polls=2000):
+    """{lines: seconds} of one idle poll of the MCS link (``McsLink.poll``, what `waferscan
+    watch` does every 10 ms) on a folder with ``lines`` answered commands, for each of
+    ``histories``: the links polled in this process in interleaved rounds of ``polls`` polls,
+    the median round. SPEC §9's "an idle poll costs the same" asks for this figure; a watcher
+    process's CPU a second (``mcs_idle``) adds the interpreter's own wake-ups and the
+    scheduler's moment, which differ from one process to the next by 2x."""
+    from .core.mcs_link import McsLink
+
+    def must_not_scan(command, should_stop):
+        raise AssertionError(f"an idle link carried out {command!r}")
+
+    with contextlib.ExitStack() as stack:
+        links = {}
+        for lines in histories:
+            folder = stack.enter_context(tempfile.TemporaryDirectory())
+            _answered_history(folder, layout_path, lines)
+            links[lines] = stack.enter_context(McsLink(folder, must_not_scan,
+                                                       log=lambda text: None))
+            links[lines].poll()  # the first poll reads the history; the later ones are idle
+
+        def polled(link):
+            for _ in range(polls):
+                if link.poll():
+                    raise AssertionError("an idle link answered")
+
+        times, _ = interleaved({lines: (lambda link=link: polled(link))
+                                for lines, link in links.items()}, rounds)
+    return {lines: statistics.median(taken) / polls for lines, taken in times.items()}
 
 
 def mcs_soak(layout_path, commands, batch=100):
@@ -550,15 +593,21 @@ def bench_mcs(layout_path, quick, histories, add):
     latency = mcs_latency(layout_path, 20 if quick else 200)
     ordered = sorted(latency)
     p99 = ordered[min(len(ordered) - 1, int(round(0.99 * (len(ordered) - 1))))]
-    idle = {}
+    idle = mcs_idle(layout_path, histories, 2.0 if quick else 5.0, rounds=1 if quick else 3)
     for lines in histories:
-        idle[lines] = mcs_idle(layout_path, lines, 2.0 if quick else 5.0)
         add({"workload": "mcs", "engine": "watch idle (CPU s per s)", "steps": None,
-             "wafers": None, "history": lines, "seconds": idle[lines], "rounds": 1,
+             "wafers": None, "history": lines, "seconds": idle[lines],
+             "rounds": 1 if quick else 3,
+             "sampled_steps": None, "extrapolated": False})
+    poll = mcs_poll_cost(layout_path, histories, rounds=3 if quick else 7)
+    for lines in histories:
+        add({"workload": "mcs", "engine": "idle poll", "steps": None, "wafers": None,
+             "history": lines, "seconds": poll[lines], "rounds": 3 if quick else 7,
              "sampled_steps": None, "extrapolated": False})
     soak = mcs_soak(layout_path, 300 if quick else 10_000)
     return {"latency_samples": latency, "latency_median": statistics.median(latency),
-            "latency_p99": p99, "idle_cpu_per_second": idle, "soak": soak}
+            "latency_p99": p99, "idle_cpu_per_second": idle, "idle_poll_seconds": poll,
+            "soak": soak}
 
 
 # --- GUI ----------------------------------------------------------------------------------
@@ -777,8 +826,7 @@ def _find(rows, workload, engine, wafers=None, steps=None):
     return None
 
 
-IDLE_SAME_RATIO = 1.5  # idle cost at 100,000 lines within this factor of that at 10 ...
-IDLE_NOISE = 0.0005  # ... or within this many CPU seconds a second of it (the noise floor)
+IDLE_SAME_RATIO = 1.5  # an idle poll at 100,000 lines within this factor of one at 10
 
 
 def contract(report):
@@ -849,13 +897,16 @@ def contract(report):
                                     f"{mcs['latency_median'] * 1000:.0f} ms over "
                                     f"{len(mcs['latency_samples'])} commands (p99 <= 50 ms)"))
         idle = {int(k): v for k, v in mcs["idle_cpu_per_second"].items()}
-        if 10 in idle and 100_000 in idle:
-            few, many = idle[10], idle[100_000]
-            same = many <= IDLE_SAME_RATIO * few or many - few <= IDLE_NOISE
-            checks.append((same, f"MCS link idle: {many * 1000:.2f} ms of CPU a second at "
-                                 f"100,000 lines of commands.txt, {few * 1000:.2f} ms at 10 "
-                                 f"(the same: within {IDLE_SAME_RATIO}x or "
-                                 f"{IDLE_NOISE * 1000:.1f} ms/s)"))
+        poll = {int(k): v for k, v in (mcs.get("idle_poll_seconds") or {}).items()}
+        if 10 in poll and 100_000 in poll:
+            few, many = poll[10], poll[100_000]
+            process = (f"; a watcher process {idle[100_000] * 1000:.2f} and "
+                       f"{idle[10] * 1000:.2f} ms of CPU a second"
+                       if 10 in idle and 100_000 in idle else "")
+            checks.append((many <= IDLE_SAME_RATIO * few,
+                           f"MCS link idle poll: {many * 1e6:.1f} us at 100,000 lines of "
+                           f"commands.txt, {few * 1e6:.1f} us at 10 (the same: within "
+                           f"{IDLE_SAME_RATIO}x){process}"))
         soak = mcs["soak"]
         growth = soak["growth_bytes"] / 1e6
         full = soak["commands"] >= 10_000

@@ -99,8 +99,11 @@ def saved_paper(tmp_path_factory):
 def test_mcs_figures_come_from_a_watcher_process(saved_paper):
     latency = bench.mcs_latency(saved_paper, 3)
     assert len(latency) == 3 and all(0 < s < 30 for s in latency)
-    idle = bench.mcs_idle(saved_paper, 1_000, 0.5, settle=1.0)
-    assert 0 <= idle < 2.0  # CPU seconds a second, two cores at most
+    idle = bench.mcs_idle(saved_paper, (10, 1_000), 0.5, rounds=2, settle=1.0)
+    assert sorted(idle) == [10, 1_000]
+    assert all(0 <= v < 2.0 for v in idle.values())  # CPU seconds a second, two cores at most
+    poll = bench.mcs_poll_cost(saved_paper, (10, 1_000), rounds=2, polls=50)
+    assert sorted(poll) == [10, 1_000] and all(0 < v < 0.01 for v in poll.values())
     soak = bench.mcs_soak(saved_paper, 20, batch=10)
     assert [n for n, _ in soak["samples"]] == [10, 20]
     assert soak["rss_end"] > 10e6
@@ -126,6 +129,7 @@ def _report():
             "ratios": {"loop/analytic": 1200.0, "loop/analytic scan_layout": 700.0},
             "mcs": {"latency_samples": [0.01] * 99 + [0.2], "latency_median": 0.01,
                     "latency_p99": 0.01, "idle_cpu_per_second": {"10": 0.001, "100000": 0.5},
+                    "idle_poll_seconds": {"10": 20e-6, "100000": 40e-6},
                     "soak": {"commands": 10_000, "growth_bytes": 2e6,
                              "growth_per_command_bytes": 200.0}},
             "gui_animation": {"updates_per_second": 50.0, "max_stall": 0.05}}
