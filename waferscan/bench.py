@@ -732,16 +732,14 @@ def bench_sweep(paper, rounds, add, quick=False):
                                    map_partitions=mapper)
 
         # Each worker's first task imports waferscan and numpy's first allocations (a partition
-        # took 2.5 s there against 1.85-1.9 s after); a user's cluster has done that before the
-        # next sweep, and the figure compares the work divided, so each worker runs one
-        # partition untimed first.
+        # took 2.5 s there against 1.85-1.9 s after), and a fresh worker's first sweep faults
+        # its memory in; a user's cluster has done that before the next sweep, and the figure
+        # compares the work divided, so each cluster runs one whole sweep untimed first.
         for k in (1, 2):
-            clients[k].gather(clients[k].map(
-                sweep.partition_tally, *zip(*[(sweep.sweep_base(paper), tolerances, 1, n_ideal,
-                                               [0])] * k), pure=False))
+            on(k)
         dask_tasks = {f"Dask {k} worker{'s' if k > 1 else ''}": (lambda k=k: on(k))
                       for k in (1, 2)}
-        dask_times, dask_results = interleaved(dask_tasks, max(2, rounds // 3))
+        dask_times, dask_results = interleaved(dask_tasks, max(2, rounds // 2))
     finally:
         for k in clients:
             clients[k].close()
