@@ -922,10 +922,12 @@ def contract(report):
         # What the user sees: frames of the 3D view showing a new placement (each frame shown
         # is an update drawn; gui/animation_bench.py).
         shown = gui.get("frames_per_second", gui["updates_per_second"])
+        size = gui.get("view_size")
+        where = f" in a {size[0]} x {size[1]} 3D view" if size else ""
         checks.append((shown >= 60 and gui["max_stall"] <= 0.1,
-                       f"GUI animation (Run scan with its panel): {shown:.1f} placement updates "
-                       f"shown a second (>= 60; {gui['updates_per_second']:.1f} set), longest "
-                       f"stall {gui['max_stall'] * 1000:.0f} ms (<= 100)"))
+                       f"GUI animation (Run scan with its panel{where}): {shown:.1f} placement "
+                       f"updates shown a second (>= 60; {gui['updates_per_second']:.1f} set), "
+                       f"longest stall {gui['max_stall'] * 1000:.0f} ms (<= 100)"))
     elif report.get("gui_error"):
         checks.append((False, f"GUI animation: the measure failed: {report['gui_error']}"))
     else:

@@ -23,3 +23,8 @@ def test_the_gui_animation_measure_plays_the_scan_animation(tmp_path):
     # Coin's own redraw waited behind the 0 ms timer's next tick and about 3 in 10 were drawn).
     assert 1 < result["frames"] <= result["updates"]
     assert result["frames"] >= 0.5 * result["updates"], result
+    # The 3D view the measure drew, as a user's window gives it (the screen 1280 x 800 less the
+    # task panel and the tool bars): no report view popped up under it by an error in opening
+    # the file (which once left it 998 x 408).
+    width, height = result["view_size"]
+    assert width > 800 and height > 550, result["view_size"]

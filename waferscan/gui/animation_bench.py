@@ -68,7 +68,8 @@ def main():
                           updates_per_second=(len(updates) - 1) / seconds,
                           frames=len(times),
                           frames_per_second=(len(times) - 1) / (times[-1] - times[0]),
-                          max_stall=max(gaps), fault=animation.fault)
+                          max_stall=max(gaps), fault=animation.fault,
+                          view_size=_view_size(view))
             finish(result)
 
         animation.moved.connect(frame)
@@ -76,6 +77,13 @@ def main():
     except Exception:
         result["error"] = traceback.format_exc()
         finish(result)
+
+
+def _view_size(view):
+    """(width, height) in pixels of the 3D view's GL widget, as the measure drew it: the frame
+    rate depends on it (software rendering)."""
+    widget = view.graphicsView().viewport()
+    return [widget.width(), widget.height()]
 
 
 def finish(result):
