@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left, bisect_right
-from operator import attrgetter
 from dataclasses import dataclass
+from operator import attrgetter
 
 from .engines import reachable_wafers
 from .geometry import LEVEL, PRE_REJECT_SLACK, wafer_bounds
