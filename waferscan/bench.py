@@ -502,22 +502,33 @@ def _answered_history(folder, layout_path, lines):
     os.replace(temporary, Path(folder) / COMMANDS)
 
 
-def mcs_idle(layout_path, histories, seconds, rounds=3, settle=3.0):
+@contextlib.contextmanager
+def answered_histories(layout_path, histories):
+    """{lines: folder} with ``_answered_history`` made once for each of ``histories``, for
+    the idle measures to share; the folders go when the context ends."""
+    with contextlib.ExitStack() as stack:
+        folders = {}
+        for lines in histories:
+            folders[lines] = stack.enter_context(tempfile.TemporaryDirectory())
+            _answered_history(folders[lines], layout_path, lines)
+        yield folders
+
+
+def mcs_idle(layout_path, folders, seconds, rounds=3, settle=3.0):
     """{lines: CPU seconds a second} that an idle watcher spends on a folder with ``lines``
-    answered commands, for each of ``histories``: one watcher a history, all running at once
+    answered commands, for each of ``folders`` ({lines: folder}, ``answered_histories``): one
+    watcher a history, all running at once
     after ``settle`` seconds for their start-up, each figure the median over ``rounds`` windows
     of ``seconds`` that all the watchers share. Measured one history after the other (5 s
     each), the same code gave 2.9 ms a second at 10 lines and 5.2 at 100,000 in one run, 5.9
     and 5.1 in the run before: the machine's moment, not the history."""
     with contextlib.ExitStack() as stack:
         watchers = {}
-        for lines in histories:
-            folder = stack.enter_context(tempfile.TemporaryDirectory())
-            _answered_history(folder, layout_path, lines)
+        for lines, folder in folders.items():
             watchers[lines] = (folder, Watcher(folder, layout_path))
             stack.callback(watchers[lines][1].stop)
         time.sleep(settle)
-        samples = {lines: [] for lines in histories}
+        samples = {lines: [] for lines in folders}
         for _ in range(rounds):
             start = {lines: w.cpu_seconds() for lines, (_, w) in watchers.items()}
             wall0 = time.perf_counter()
@@ -533,10 +544,10 @@ def mcs_idle(layout_path, histories, seconds, rounds=3, settle=3.0):
     return {lines: statistics.median(taken) for lines, taken in samples.items()}
 
 
-def mcs_poll_cost(layout_path, histories, rounds=5, polls=2000):
+def mcs_poll_cost(folders, rounds=5, polls=2000):
     """{lines: seconds} of one idle poll of the MCS link (``McsLink.poll``, what `waferscan
     watch` does every 10 ms) on a folder with ``lines`` answered commands, for each of
-    ``histories``: the links polled in this process in interleaved rounds of ``polls`` polls,
+    ``folders`` ({lines: folder}, ``answered_histories``): the links polled in this process in interleaved rounds of ``polls`` polls,
     the median round. SPEC §9's "an idle poll costs the same" asks for this figure; a watcher
     process's CPU a second (``mcs_idle``) adds the interpreter's own wake-ups and the
     scheduler's moment, which differ from one process to the next by 2x."""
@@ -547,9 +558,7 @@ def mcs_poll_cost(layout_path, histories, rounds=5, polls=2000):
 
     with contextlib.ExitStack() as stack:
         links = {}
-        for lines in histories:
-            folder = stack.enter_context(tempfile.TemporaryDirectory())
-            _answered_history(folder, layout_path, lines)
+        for lines, folder in folders.items():
             links[lines] = stack.enter_context(McsLink(folder, must_not_scan,
                                                        log=lambda text: None))
             links[lines].poll()  # the first poll reads the history; the later ones are idle
@@ -593,13 +602,15 @@ def bench_mcs(layout_path, quick, histories, add):
     latency = mcs_latency(layout_path, 20 if quick else 200)
     ordered = sorted(latency)
     p99 = ordered[min(len(ordered) - 1, int(round(0.99 * (len(ordered) - 1))))]
-    idle = mcs_idle(layout_path, histories, 2.0 if quick else 5.0, rounds=1 if quick else 3)
+    with answered_histories(layout_path, histories) as folders:
+        # The poll in this process first: its links hold the folders' locks until it ends.
+        poll = mcs_poll_cost(folders, rounds=3 if quick else 7)
+        idle = mcs_idle(layout_path, folders, 2.0 if quick else 5.0, rounds=1 if quick else 3)
     for lines in histories:
         add({"workload": "mcs", "engine": "watch idle (CPU s per s)", "steps": None,
              "wafers": None, "history": lines, "seconds": idle[lines],
              "rounds": 1 if quick else 3,
              "sampled_steps": None, "extrapolated": False})
-    poll = mcs_poll_cost(layout_path, histories, rounds=3 if quick else 7)
     for lines in histories:
         add({"workload": "mcs", "engine": "idle poll", "steps": None, "wafers": None,
              "history": lines, "seconds": poll[lines], "rounds": 3 if quick else 7,

@@ -99,10 +99,11 @@ def saved_paper(tmp_path_factory):
 def test_mcs_figures_come_from_a_watcher_process(saved_paper):
     latency = bench.mcs_latency(saved_paper, 3)
     assert len(latency) == 3 and all(0 < s < 30 for s in latency)
-    idle = bench.mcs_idle(saved_paper, (10, 1_000), 0.5, rounds=2, settle=1.0)
+    with bench.answered_histories(saved_paper, (10, 1_000)) as folders:
+        poll = bench.mcs_poll_cost(folders, rounds=2, polls=50)
+        idle = bench.mcs_idle(saved_paper, folders, 0.5, rounds=2, settle=1.0)
     assert sorted(idle) == [10, 1_000]
     assert all(0 <= v < 2.0 for v in idle.values())  # CPU seconds a second, two cores at most
-    poll = bench.mcs_poll_cost(saved_paper, (10, 1_000), rounds=2, polls=50)
     assert sorted(poll) == [10, 1_000] and all(0 < v < 0.01 for v in poll.values())
     soak = bench.mcs_soak(saved_paper, 20, batch=10)
     assert [n for n, _ in soak["samples"]] == [10, 20]

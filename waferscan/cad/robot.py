@@ -63,10 +63,17 @@ def _urdf(holder):
 def apply_pose(robot, holder, links, scanner, joints):
     """Place every link solid and the scanner for the joint values, relative to the robot's
     App::Part (whose placement is the base)."""
+    for obj, placement in pose_placements(robot, links, scanner, joints):
+        obj.Placement = placement
+
+
+def pose_placements(robot, links, scanner, joints):
+    """[(object, Placement)]: where ``apply_pose`` puts each link solid and the scanner for the
+    joint values, without putting them there."""
     placements = robot.link_placements(joints)
-    for name, obj in links.items():
-        obj.Placement = placement_of(*placements[name])
-    scanner.Placement = placement_of(*placements[SCANNER_LINK])
+    moved = [(obj, placement_of(*placements[name])) for name, obj in links.items()]
+    moved.append((scanner, placement_of(*placements[SCANNER_LINK])))
+    return moved
 
 
 def load_robot(urdf, source):
@@ -203,10 +210,7 @@ class RobotMover:
     def placements_at(self, z):
         """[(object, Placement)]: where move_to(z) puts each link and the scanner, without
         putting them there (the GUI's animation shows them in the 3D view only)."""
-        placements = self.robot.link_placements(self.joints_at(z))
-        moved = [(obj, placement_of(*placements[name])) for name, obj in self.links.items()]
-        moved.append((self.scanner, placement_of(*placements[SCANNER_LINK])))
-        return moved
+        return pose_placements(self.robot, self.links, self.scanner, self.joints_at(z))
 
     def restore(self):
         apply_pose(self.robot, self.holder, self.links, self.scanner, self.start)

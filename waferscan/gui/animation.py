@@ -284,10 +284,7 @@ class ViewPose:
     def show(self, placements):
         """Draw each (object, Placement) there."""
         for obj, placement in placements:
-            translation, rotation = self.by_name[obj.Name]
-            base = placement.Base
-            translation.setValue(base.x, base.y, base.z)
-            rotation.setValue(*placement.Rotation.Q)
+            _set_fields(*self.by_name[obj.Name], placement)
 
     def restore(self):
         """The view shows the document's placements again (each on its own: an object deleted
@@ -299,11 +296,16 @@ class ViewPose:
             except Exception as exc:  # deleted from the document meanwhile
                 failed = failed or exc
                 continue
-            base = placement.Base
-            translation.setValue(base.x, base.y, base.z)
-            rotation.setValue(*placement.Rotation.Q)
+            _set_fields(translation, rotation, placement)
         if failed is not None:
             raise failed
+
+
+def _set_fields(translation, rotation, placement):
+    """A transform node's translation and rotation fields set to show ``placement``."""
+    base = placement.Base
+    translation.setValue(base.x, base.y, base.z)
+    rotation.setValue(*placement.Rotation.Q)
 
 
 def _shows(node, placement, tolerance=1e-4):
