@@ -307,3 +307,19 @@ def test_spot_sweep_suggests_the_threshold_halfway_to_the_weakest_peak():
     assert summary["suggested"]["threshold_on"] == 0.5 * min(peaks)
     assert summary["confusion"]["thin"]["empty"] > 0  # missed at 0.5, as on real equipment
     assert sweep.run_sweep(paper(), tol, 3, seed=2)["suggested"]["threshold_on"] == 0.5
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 333])
+def test_beam_ranges_in_chunks_are_the_whole_blocks_bit_for_bit(chunk, monkeypatch):
+    # scan_block works out the beam's ranges SWEEP_CHUNK wafers at a time (for the cache); a
+    # chunk boundary anywhere (every wafer, a prime stride, a block's last partial chunk) must
+    # change nothing, with a tilted beam (the general corners) and level wafers alike.
+    base = sweep.sweep_base(paper())
+    tol = parse_tolerances(EVERYTHING)
+    draws = sweep.draw_block(base, tol, 11, 0, 60)
+    assert draws.exists.sum() > 3 * chunk  # several chunks, not one
+    monkeypatch.setattr(sweep, "SWEEP_CHUNK", 10 ** 9)
+    whole = sweep.scan_block(base, draws)
+    monkeypatch.setattr(sweep, "SWEEP_CHUNK", chunk)
+    chunked = sweep.scan_block(base, draws)
+    assert all(equal(a, b) for a, b in zip(whole, chunked))
