@@ -707,7 +707,7 @@ def bench_sweep(paper, rounds, add, quick=False):
     from .core import sweep
     from .core.spot import BeamSpot
     from .core.tolerances import read_tolerances
-    from .tolerance_study import _dask_mapper, local_cluster
+    from .tolerance_study import DaskPartitions, local_cluster
 
     tolerances = read_tolerances(SWEEP_TOLERANCES)
     spot = replace(paper, spot=BeamSpot(diameter=1.0))
@@ -738,9 +738,9 @@ def bench_sweep(paper, rounds, add, quick=False):
         def on(k):
             parts = sweep.partitions(n_ideal, k * 4)
             sizes = sweep.block_sizes(n_ideal)
-            mapper = _dask_mapper(clients[k], lambda i: sum(sizes[b] for b in parts[i]))
+            runner = DaskPartitions(clients[k], lambda i: sum(sizes[b] for b in parts[i]))
             return sweep.run_sweep(paper, tolerances, n_ideal, seed=1, partition_count=k * 4,
-                                   map_partitions=mapper)
+                                   runner=runner)
 
         # Each worker's first task imports waferscan and numpy's first allocations (a partition
         # took 2.5 s there against 1.85-1.9 s after), and a fresh worker's first sweep faults

@@ -289,14 +289,14 @@ def cmd_sweep(args):
         tolerance_study.output_folder(args.out)
     progress = tolerance_study.ProgressLine(args.n)
     try:
-        summary, margins = tolerance_study.run_study(
+        summary, histograms = tolerance_study.run_study(
             args.input, args.tolerances, args.n, seed=args.seed, workers=args.workers,
             scheduler=args.scheduler, partition_count=args.partitions, rules=args.rules,
             progress=progress)
     finally:
         progress.close()
     if args.out:
-        tolerance_study.write_outputs(summary, args.out, margins)
+        tolerance_study.write_outputs(summary, args.out, histograms)
     if args.json:
         print(json.dumps(summary, indent=2))
     else:

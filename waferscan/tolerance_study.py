@@ -125,33 +125,46 @@ def _python_for_workers():
     multiprocessing.set_executable(str(python))
 
 
-def _dask_mapper(client, sizes_of):
-    """A ``map_partitions`` for core.sweep.run_sweep that submits each partition as a Dask
-    future and reports progress as they finish; results come back in partition order."""
+class DaskPartitions:
+    """A sweep's ``runner`` (core.sweep.sweep_tally) on a Dask cluster: each partition a task,
+    its result left on the worker that computed it (a future); ``apply`` runs a function on
+    each result where it lies and brings back only the answers (the digests and the few
+    margins the summary needs, not the partitions' ~40 MB for 100,000 layouts). Progress is
+    reported as partitions finish; ``sizes_of(i)``: the layouts in partition i."""
 
-    def run(function, args, progress):
-        from distributed import as_completed
+    def __init__(self, client, sizes_of):
+        self.client = client
+        self.sizes_of = sizes_of
 
-        futures = client.map(function, *zip(*args), pure=False)
-        index = {f.key: i for i, f in enumerate(futures)}
-        results = [None] * len(futures)
-        done = layouts = 0
-        for future in as_completed(futures):
-            i = index[future.key]
-            results[i] = future.result()
-            done += 1
-            layouts += sizes_of(i)
-            if progress:
+    def run(self, function, args, progress=None):
+        from distributed import as_completed, wait
+
+        futures = self.client.map(function, *zip(*args), pure=False)
+        if progress:
+            index = {f.key: i for i, f in enumerate(futures)}
+            done = layouts = 0
+            for future in as_completed(futures):
+                done += 1
+                layouts += self.sizes_of(index[future.key])
                 progress(done, len(futures), layouts)
-        return results
+        wait(futures)
+        for future in futures:  # a partition that failed raises its error here
+            if future.status == "error":
+                future.result()
+        return futures
 
-    return run
+    def apply(self, function, handles, *extra):
+        # Each task runs on the worker that holds its partition; the extras are small.
+        futures = self.client.map(function, handles, *[[e] * len(handles) for e in extra],
+                                  pure=False)
+        return self.client.gather(futures)
 
 
 def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
               partition_count=None, rules=None, progress=None):
-    """Load, sweep and summarise; returns (summary dict, margin arrays). ``workers``: the local cluster's
-    worker processes (default: this machine's cores; 0: no Dask, in this process);
+    """Load, sweep and summarise; returns (summary dict, the margins' histograms: {"thickness" |
+    "position": (counts, bin edges)}). ``workers``: the local cluster's worker processes
+    (default: this machine's cores; 0: no Dask, in this process);
     ``scheduler``: the address of an existing Dask scheduler instead."""
     layout = load_layout(input_path)
     tolerances = read_tolerances(tolerance_path)
@@ -194,7 +207,7 @@ def _sweep(layout, tolerances, n, seed, rules, count, client, progress):
     def sizes_of(i):
         return sum(sizes[b] for b in parts[i])
 
-    mapper = None if client is None else _dask_mapper(client, sizes_of)
+    runner = None if client is None else DaskPartitions(client, sizes_of)
 
     def local_progress(done, total, layouts=None):
         if progress:
@@ -203,12 +216,11 @@ def _sweep(layout, tolerances, n, seed, rules, count, client, progress):
 
     try:
         base, tally = sweep.sweep_tally(layout, tolerances, n, seed, rules=rules,
-                                        partition_count=count, map_partitions=mapper,
-                                        progress=local_progress)
+                                        partition_count=count, runner=runner,
+                                        progress=local_progress, histograms=True)
     except ValueError as exc:
         raise InputError(tolerances.source, None, str(exc)) from None
-    return sweep.summarise(base, tolerances, n, seed, tally), sweep.margin_values(base.plan,
-                                                                                  tally)
+    return sweep.summarise(base, tolerances, n, seed, tally), tally["histograms"]
 
 
 # --- outputs ---------------------------------------------------------------------------------
@@ -276,7 +288,7 @@ def output_folder(folder):
     return folder
 
 
-def write_outputs(summary, folder, measured=None):
+def write_outputs(summary, folder, histograms=None):
     """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png in
     ``folder`` (made if needed); returns the paths written."""
     folder = output_folder(folder)
@@ -291,16 +303,16 @@ def write_outputs(summary, folder, measured=None):
         for name, text in files.items():
             atomic_write_text(folder / name, text)
             written.append(folder / name)
-        written += plot_summary(summary, folder, measured)
+        written += plot_summary(summary, folder, histograms)
     except OSError as exc:
         raise InputError(folder, None, f"cannot write: {exc.strerror}") from None
     return written
 
 
-def plot_summary(summary, folder, measured=None):
+def plot_summary(summary, folder, histograms=None):
     """confusion.png (counts, true state down, reported across) and margins.png (histograms of
-    the thickness and position margins of the truly present wafers, when ``measured`` gives
-    them; else their percentiles)."""
+    the thickness and position margins of the truly present wafers, when ``histograms`` gives
+    them as (counts, bin edges): the sweep's tally's; else their percentiles)."""
     import warnings
 
     import matplotlib
@@ -332,10 +344,10 @@ def plot_summary(summary, folder, measured=None):
     plt.close(fig)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, key in zip(axes, ("thickness", "position")):
-        values = None if measured is None else measured.get(key)
+        hist = None if histograms is None else histograms.get(key)
         dist = summary["margins"].get(key)
-        if values is not None and len(values):
-            ax.hist(values, bins=60, color="tab:blue")
+        if hist is not None:
+            ax.stairs(hist[0], hist[1], fill=True, color="tab:blue")
         elif dist:
             keys = ["min", *[f"p{p}" for p in sweep.PERCENTILES], "max"]
             ax.plot([dist[k] for k in keys], range(len(keys)), "o-")

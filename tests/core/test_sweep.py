@@ -323,3 +323,52 @@ def test_beam_ranges_in_chunks_are_the_whole_blocks_bit_for_bit(chunk, monkeypat
     monkeypatch.setattr(sweep, "SWEEP_CHUNK", chunk)
     chunked = sweep.scan_block(base, draws)
     assert all(equal(a, b) for a, b in zip(whole, chunked))
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 10, 101, 1000, 4097])
+def test_linear_percentile_is_numpys_percentile_bit_for_bit(n):
+    values = np.sort(np.random.default_rng(n).normal(0.3, 0.2, n))
+    for p in (*sweep.PERCENTILES, 0, 33, 66.7, 100):
+        assert sweep.linear_percentile(n, p, lambda k: float(values[k])) == \
+            np.percentile(values, p), p
+
+
+def _fake_partition(values_t, values_p):
+    return {"confusion": np.zeros((8, 8), dtype=np.int64), "weakest_peak": 1.0,
+            "extremes": {"thickness": None, "offset": None, "thin_thickness": None,
+                         "double_thickness": None, "misplaced_offset": None},
+            "margins": {"thickness": np.sort(values_t), "position": np.sort(values_p)}}
+
+
+@pytest.mark.parametrize("stride", [1, 3, 256])
+def test_reduced_margins_are_those_of_every_partition_together(stride, monkeypatch):
+    # Partitions of very different sizes (one empty, one of one value), values with many ties
+    # and a long tail: the order statistics the brackets find, the percentiles and the
+    # histograms must be numpy's on all the margins in one array.
+    monkeypatch.setattr(sweep, "DIGEST_STRIDE", stride)
+    rng = np.random.default_rng(stride)
+    sizes = [0, 1, 7, 2000, 513, 90]
+    parts = []
+    for size in sizes:
+        ties = np.round(rng.normal(0.1, 0.05, size), 3)         # ~100 distinct values
+        tail = rng.standard_exponential(size) ** 3 - 0.2
+        parts.append(_fake_partition(ties, tail))
+    tally = sweep.reduce_partitions(sweep.LocalPartitions(), parts, histograms=True)
+    for key in ("thickness", "position"):
+        every = np.concatenate([p["margins"][key] for p in parts])
+        dist = tally["margins"][key]
+        assert dist["count"] == len(every)
+        assert dist["min"] == every.min() and dist["max"] == every.max()
+        for p in sweep.PERCENTILES:
+            assert dist[f"p{p}"] == np.percentile(every, p), (key, p)
+        counts, edges = tally["histograms"][key]
+        want_counts, want_edges = np.histogram(every, bins=sweep.MARGIN_BINS)
+        assert np.array_equal(edges, want_edges) and np.array_equal(counts, want_counts)
+
+
+def test_a_partition_sends_a_sample_of_its_margins_not_all_of_them():
+    part = _fake_partition(np.arange(10_000.0), np.arange(5.0))
+    digest = sweep.partition_digest(part, stride=256)
+    assert len(digest["margins"]["thickness"]["samples"]) == 40
+    assert digest["margins"]["thickness"]["max"] == 9999.0
+    assert list(digest["margins"]["position"]["samples"]) == [0.0]

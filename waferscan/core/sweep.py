@@ -1023,10 +1023,196 @@ def combine_tallies(tallies):
 
 
 def partition_tally(base, tolerances, seed, n, blocks):
-    """The tallies of the given blocks (a partition) of an N-layout sweep, combined."""
+    """The given blocks (a partition) of an N-layout sweep, reduced to what the summary reads:
+    the confusion counts, the weakest peak, the extremes of the readings the suggested recipe
+    is built from, and the margins of the truly present wafers, sorted. The margins are the
+    bulk (~22 values a layout); a sweep leaves them where the partition ran and asks them for
+    a few order statistics and a histogram (``reduce_partitions``)."""
+    import numpy as np
+
     sizes = block_sizes(n)
-    return combine_tallies([block_tally(base, sweep_block(base, tolerances, seed, b, sizes[b]))
-                            for b in blocks])
+    tally = combine_tallies([block_tally(base, sweep_block(base, tolerances, seed, b, sizes[b]))
+                             for b in blocks])
+    measured = tally["measured"]
+    th, off = measured["present"]
+
+    def ends(values):
+        return (float(values.min()), float(values.max())) if len(values) else None
+
+    extremes = {"thickness": ends(th), "offset": ends(off),
+                "thin_thickness": ends(measured["thin"][0]),
+                "double_thickness": ends(measured["double"][0]),
+                "misplaced_offset": ends(np.abs(measured["position_error"][1]))}
+    return {"confusion": tally["confusion"], "weakest_peak": tally["weakest_peak"],
+            "extremes": extremes,
+            "margins": {key: np.sort(values) for key, values in
+                        margin_values(base.plan, tally).items()}}
+
+
+# --- reducing the partitions ------------------------------------------------------------------
+#
+# The summary needs the margins' order statistics (min, percentiles, max) over every partition,
+# exactly. Rather than bring every partition's margins to one place (40 MB for 100,000
+# layouts, and a sort there that no worker shares), each partition sends every
+# DIGEST_STRIDE-th of its sorted margins; those bound each wanted order statistic between two
+# values, and each partition then sends the few of its margins between them and how many lie
+# below. Two small round trips, the same numbers as sorting everything in one place.
+
+DIGEST_STRIDE = 256
+MARGIN_BINS = 60
+
+
+def partition_digest(part, stride=None):
+    """A partition without its margins: its counts and extremes, and of each kind of margin the
+    count, the largest and every ``stride``-th value from the smallest (a sorted sample;
+    default DIGEST_STRIDE)."""
+    stride = stride or DIGEST_STRIDE
+    out = {k: part[k] for k in ("confusion", "weakest_peak", "extremes")}
+    out["margins"] = {key: {"count": len(values), "stride": stride,
+                            "samples": values[::stride].copy(),
+                            "max": float(values[-1]) if len(values) else None}
+                      for key, values in part["margins"].items()}
+    return out
+
+
+def _brackets(digests, key, ranks):
+    """For each 0-based rank r of the margins ``key`` of every partition together, values
+    (low, high) with low <= the r-th smallest <= high, from the partitions' samples. A
+    partition's k samples below a value v (every stride-th margin from the smallest) say that
+    between (k - 1) * stride + 1 and k * stride of its margins lie below v (all of them when
+    every sample does)."""
+    import numpy as np
+
+    digests = [d["margins"][key] for d in digests]
+    samples = [d["samples"] for d in digests]
+    candidates = np.unique(np.concatenate(samples))
+    below_at_most = np.zeros(len(candidates), dtype=np.int64)   # margins < v, at most
+    up_to_at_least = np.zeros(len(candidates), dtype=np.int64)  # margins <= v, at least
+    for d in digests:
+        sample, count, stride = d["samples"], d["count"], d["stride"]
+        a = np.searchsorted(sample, candidates, side="left")
+        below_at_most += np.where(a < len(sample), a * stride, count)
+        b = np.searchsorted(sample, candidates, side="right")
+        up_to_at_least += np.where(b > 0, (b - 1) * stride + 1, 0)
+    out = []
+    for r in ranks:
+        i = int(np.searchsorted(below_at_most, r, side="right")) - 1
+        j = int(np.searchsorted(up_to_at_least, r + 1, side="left"))
+        out.append((float(candidates[i]) if i >= 0 else -math.inf,
+                    float(candidates[j]) if j < len(candidates) else math.inf))
+    return out
+
+
+def partition_details(part, brackets, edges):
+    """What a partition adds to the order statistics and histograms: for each kind of margin
+    and each (low, high) of ``brackets[key]``, how many of its margins lie below low and those
+    from low to high (sorted); and its histogram over ``edges[key]`` (numpy.histogram's bins),
+    where ``edges`` has the key."""
+    import numpy as np
+
+    out = {}
+    for key, values in part["margins"].items():
+        pieces = []
+        for low, high in brackets.get(key, ()):
+            a = int(np.searchsorted(values, low, side="left"))
+            b = int(np.searchsorted(values, high, side="right"))
+            pieces.append((a, values[a:b].copy()))
+        hist = None
+        if edges.get(key) is not None:
+            hist = np.histogram(values, bins=edges[key])[0]
+        out[key] = {"selected": pieces, "histogram": hist}
+    return out
+
+
+def linear_percentile(count, p, nth):
+    """The p-th percentile of ``count`` values whose k-th smallest (0-based) is ``nth(k)``, by
+    linear interpolation between the order statistics at (count - 1) p / 100 (numpy's default
+    method, with its rounding: the same floats as numpy.percentile of the values)."""
+    g = (count - 1) * (p / 100)
+    if g >= count - 1:
+        return nth(count - 1)
+    k = math.floor(g)
+    t = g - k
+    low, high = nth(k), nth(k + 1)
+    step = high - low
+    return high - step * (1 - t) if t >= 0.5 else low + step * t
+
+
+def _wanted_ranks(count):
+    """The 0-based ranks linear_percentile reads for PERCENTILES of ``count`` values."""
+    ranks = set()
+    for p in PERCENTILES:
+        linear_percentile(count, p, lambda k: ranks.add(k) or 0.0)
+    return sorted(ranks)
+
+
+class LocalPartitions:
+    """Runs a sweep's partitions in this process, one after the other (a sweep's ``runner``;
+    tolerance_study has the Dask one). ``run`` returns handles to the partitions' results, kept
+    where they were computed; ``apply`` calls a function on each and brings back its answers."""
+
+    def run(self, function, args, progress=None):
+        results = []
+        for i, a in enumerate(args):
+            results.append(function(*a))
+            if progress:
+                progress(i + 1, len(args))
+        return results
+
+    def apply(self, function, handles, *extra):
+        return [function(h, *extra) for h in handles]
+
+
+def reduce_partitions(runner, handles, histograms=False):
+    """The partitions' results (``runner``'s handles) as one tally: counts added, extremes
+    taken, and of each kind of margin its distribution (count, min, PERCENTILES, max) and,
+    with ``histograms``, its histogram in MARGIN_BINS equal bins from min to max (counts,
+    edges). Exact whatever the partitions: the order statistics are the margins' own."""
+    import numpy as np
+
+    digests = runner.apply(partition_digest, handles)
+    confusion = sum(d["confusion"] for d in digests)
+    weakest = min(d["weakest_peak"] for d in digests)
+    extremes = {}
+    for name in digests[0]["extremes"]:
+        found = [d["extremes"][name] for d in digests if d["extremes"][name] is not None]
+        extremes[name] = ((min(f[0] for f in found), max(f[1] for f in found)) if found
+                          else None)
+    counts, ranks, brackets, edges = {}, {}, {}, {}
+    for key in digests[0]["margins"]:
+        counts[key] = sum(d["margins"][key]["count"] for d in digests)
+        if counts[key] == 0:
+            continue
+        ranks[key] = _wanted_ranks(counts[key])
+        brackets[key] = _brackets(digests, key, ranks[key])
+        if histograms:
+            low = min(float(d["margins"][key]["samples"][0]) for d in digests
+                      if d["margins"][key]["count"])
+            high = max(d["margins"][key]["max"] for d in digests if d["margins"][key]["count"])
+            edges[key] = np.histogram_bin_edges([low, high], bins=MARGIN_BINS)
+    details = runner.apply(partition_details, handles, brackets, edges) if brackets else []
+    margins, hists = {}, {}
+    for key, count in counts.items():
+        if count == 0:
+            margins[key] = None
+            continue
+        stats = {}
+        for r, (low, high), i in zip(ranks[key], brackets[key], range(len(ranks[key]))):
+            below = sum(d[key]["selected"][i][0] for d in details)
+            between = np.sort(np.concatenate([d[key]["selected"][i][1] for d in details]))
+            stats[r] = float(between[r - below])
+        lowest = min(float(d["margins"][key]["samples"][0]) for d in digests
+                     if d["margins"][key]["count"])
+        highest = max(d["margins"][key]["max"] for d in digests if d["margins"][key]["count"])
+        dist = {"count": int(count), "min": lowest}
+        for p in PERCENTILES:
+            dist[f"p{p}"] = float(linear_percentile(count, p, stats.__getitem__))
+        dist["max"] = highest
+        margins[key] = dist
+        if histograms:
+            hists[key] = (sum(d[key]["histogram"] for d in details), edges[key])
+    return {"confusion": confusion, "weakest_peak": weakest, "extremes": extremes,
+            "margins": margins, "histograms": hists}
 
 
 def partitions(n, count):
@@ -1064,23 +1250,9 @@ def wilson(k, n, z=Z95):
 PERCENTILES = (1, 5, 50, 95, 99)
 
 
-def _distribution(values):
-    import numpy as np
-
-    if len(values) == 0:
-        return None
-    out = {"count": int(len(values)), "min": float(np.min(values))}
-    # One call for every percentile: one partial sort of the values, not one each.
-    for p, v in zip(PERCENTILES, np.percentile(values, PERCENTILES)):
-        out[f"p{p}"] = float(v)
-    out["max"] = float(np.max(values))
-    return out
-
-
 def summarise(base, tolerances, n, seed, tally):
-    """The sweep's summary (the dict written as summary.json)."""
-    import numpy as np
-
+    """The sweep's summary (the dict written as summary.json) from ``reduce_partitions``'s
+    tally."""
     from .scenario import MISPLACED_RISE, THIN_FACTOR
 
     plan = base.plan
@@ -1108,24 +1280,24 @@ def summarise(base, tolerances, n, seed, tally):
         }
     low, high = plan.thickness_window()
     below, above = plan.position_window()
-    th, off = tally["measured"]["present"]
-    margins = {key: _distribution(values) for key, values in margin_values(plan, tally).items()}
+    ends = tally["extremes"]
     # Safer thresholds: each limit halfway between the present wafers' extreme and the nearest
     # reading of the state on the other side (or, with none drawn, that state's nominal reading:
     # a thin wafer THIN_FACTOR t, a double 2 t, a misplaced wafer MISPLACED_RISE off its seat).
     t = plan.wafer_thickness
-    thin_th = tally["measured"]["thin"][0]
-    double_th = tally["measured"]["double"][0]
-    mis_off = np.abs(tally["measured"]["position_error"][1])
     suggested = None
-    if len(th):
-        lo_ref = float(thin_th.max()) if len(thin_th) else THIN_FACTOR * t
-        hi_ref = float(double_th.min()) if len(double_th) else 2.0 * t
-        pos_ref = float(mis_off.min()) if len(mis_off) else MISPLACED_RISE
-        t_min = 0.5 * (float(th.min()) + lo_ref)
-        t_max = 0.5 * (float(th.max()) + hi_ref)
-        worst_below = float(max(0.0, -off.min()))
-        worst_above = float(max(0.0, off.max()))
+    if ends["thickness"] is not None:
+        th_min, th_max = ends["thickness"]
+        off_min, off_max = ends["offset"]
+        thin, double, mis = (ends["thin_thickness"], ends["double_thickness"],
+                             ends["misplaced_offset"])
+        lo_ref = thin[1] if thin else THIN_FACTOR * t
+        hi_ref = double[0] if double else 2.0 * t
+        pos_ref = mis[0] if mis else MISPLACED_RISE
+        t_min = 0.5 * (th_min + lo_ref)
+        t_max = 0.5 * (th_max + hi_ref)
+        worst_below = float(max(0.0, -off_min))
+        worst_above = float(max(0.0, off_max))
         suggested = {
             "thickness_min": t_min, "thickness_max": t_max,
             "position_below": 0.5 * (worst_below + pos_ref),
@@ -1134,7 +1306,7 @@ def summarise(base, tolerances, n, seed, tally):
             # gave: the largest margin to both. The ideal beam blocks all or nothing: 0.5.
             "threshold_on": 0.5 * tally.get("weakest_peak", 1.0),
             "weakest_peak": tally.get("weakest_peak", 1.0),
-            "worst_thickness_margin": min(float(th.min()) - t_min, t_max - float(th.max())),
+            "worst_thickness_margin": min(th_min - t_min, t_max - th_max),
         }
     layout = base.layout
     return {
@@ -1152,7 +1324,7 @@ def summarise(base, tolerances, n, seed, tally):
                    if tolerances.states else "INPUT's load"),
         "confusion": confusion,
         "rates": rates,
-        "margins": margins,
+        "margins": tally["margins"],
         "suggested": suggested,
     }
 
@@ -1170,36 +1342,31 @@ def margin_values(plan, tally):
 
 
 def sweep_tally(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
-                map_partitions=None, progress=None):
-    """Run the sweep and return (base, tally): ``run_sweep`` before its summary."""
+                runner=None, progress=None, histograms=False):
+    """Run the sweep and return (base, tally): ``run_sweep`` before its summary (the tally of
+    ``reduce_partitions``, with the margins' histograms when asked)."""
     if n < 1:
         raise ValueError(f"a sweep needs at least one layout, got n = {n}")
     base = sweep_base(layout, plan, rules)
     parts = partitions(n, partition_count)
-    args = [(base, tolerances, seed, n, blocks) for blocks in parts]
-    if map_partitions is None:
-        tallies = []
-        for i, a in enumerate(args):
-            tallies.append(partition_tally(*a))
-            if progress:
-                progress(i + 1, len(args))
-    else:
-        tallies = map_partitions(partition_tally, args, progress)
-    return base, combine_tallies(tallies)
+    runner = runner or LocalPartitions()
+    handles = runner.run(partition_tally, [(base, tolerances, seed, n, blocks)
+                                           for blocks in parts], progress)
+    return base, reduce_partitions(runner, handles, histograms)
 
 
 def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
-              map_partitions=None, progress=None):
+              runner=None, progress=None):
     """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.tolerances.Tolerances) and
     return the summary dict (summary.json's content). ``plan`` / ``rules``: the recipe
-    (default: the layout's own). The blocks are grouped into ``partition_count`` partitions;
-    ``map_partitions(function, args_list, progress)`` runs them (default: here, one after
-    another; the Dask runner passes its own); ``progress(done, total)`` after each. The result
-    depends only on the layout, the tolerances, N and the seed. From a script:
+    (default: the layout's own). The blocks are grouped into ``partition_count`` partitions,
+    which ``runner`` runs (default: ``LocalPartitions``, here one after another; the Dask
+    runner is tolerance_study's); ``progress(done, total)`` after each. The result depends
+    only on the layout, the tolerances, N and the seed. From a script:
 
         layout = read_scenario("resources/examples/paper.toml")
         summary = run_sweep(layout, read_tolerances("fab_tolerances.toml"), 10_000, seed=1)
     """
     base, tally = sweep_tally(layout, tolerances, n, seed, plan, rules, partition_count,
-                              map_partitions, progress)
+                              runner, progress)
     return summarise(base, tolerances, n, seed, tally)
