@@ -1178,36 +1178,32 @@ def reduce_partitions(runner, handles, histograms=False):
         found = [d["extremes"][name] for d in digests if d["extremes"][name] is not None]
         extremes[name] = ((min(f[0] for f in found), max(f[1] for f in found)) if found
                           else None)
-    counts, ranks, brackets, edges = {}, {}, {}, {}
+    counts, ends, ranks, brackets, edges = {}, {}, {}, {}, {}
     for key in digests[0]["margins"]:
-        counts[key] = sum(d["margins"][key]["count"] for d in digests)
-        if counts[key] == 0:
+        held = [d["margins"][key] for d in digests if d["margins"][key]["count"]]
+        counts[key] = sum(h["count"] for h in held)
+        if not held:
             continue
+        ends[key] = (min(float(h["samples"][0]) for h in held), max(h["max"] for h in held))
         ranks[key] = _wanted_ranks(counts[key])
         brackets[key] = _brackets(digests, key, ranks[key])
         if histograms:
-            low = min(float(d["margins"][key]["samples"][0]) for d in digests
-                      if d["margins"][key]["count"])
-            high = max(d["margins"][key]["max"] for d in digests if d["margins"][key]["count"])
-            edges[key] = np.histogram_bin_edges([low, high], bins=MARGIN_BINS)
+            edges[key] = np.histogram_bin_edges(ends[key], bins=MARGIN_BINS)
     details = runner.apply(partition_details, handles, brackets, edges) if brackets else []
     margins, hists = {}, {}
     for key, count in counts.items():
         if count == 0:
             margins[key] = None
             continue
-        stats = {}
-        for r, (low, high), i in zip(ranks[key], brackets[key], range(len(ranks[key]))):
+        nth = {}
+        for i, r in enumerate(ranks[key]):
             below = sum(d[key]["selected"][i][0] for d in details)
             between = np.sort(np.concatenate([d[key]["selected"][i][1] for d in details]))
-            stats[r] = float(between[r - below])
-        lowest = min(float(d["margins"][key]["samples"][0]) for d in digests
-                     if d["margins"][key]["count"])
-        highest = max(d["margins"][key]["max"] for d in digests if d["margins"][key]["count"])
-        dist = {"count": int(count), "min": lowest}
+            nth[r] = float(between[r - below])
+        dist = {"count": int(count), "min": ends[key][0]}
         for p in PERCENTILES:
-            dist[f"p{p}"] = float(linear_percentile(count, p, stats.__getitem__))
-        dist["max"] = highest
+            dist[f"p{p}"] = float(linear_percentile(count, p, nth.__getitem__))
+        dist["max"] = ends[key][1]
         margins[key] = dist
         if histograms:
             hists[key] = (sum(d[key]["histogram"] for d in details), edges[key])
