@@ -216,14 +216,10 @@ def cmd_calibrate(args):
 
 
 def cmd_layout(args):
-    from .cad.layout_files import open_layout, save_document
-    import FreeCAD as App
+    from .cad.layout_files import opened_layout, save_document
 
-    doc = open_layout(args.scenario)
-    try:
+    with opened_layout(args.scenario) as doc:
         save_document(doc, args.output)
-    finally:
-        App.closeDocument(doc.Name)
     print(f"{args.output}: layout of {args.scenario}")
     return 0
 
@@ -451,5 +447,14 @@ def main(argv=None):
                 pass
 
 
-if __name__ == "__main__":
+def console():
+    """The `waferscan` console script: ``main`` in a process that ends with the command, so
+    the documents it opens are left to the process's end (cad.CLOSE_AFTER_USE)."""
+    from . import cad
+
+    cad.CLOSE_AFTER_USE = False
     sys.exit(main())
+
+
+if __name__ == "__main__":
+    console()

@@ -102,3 +102,21 @@ def test_batch_run_in_freecadcmd(paper_layout):
                       "sys.exit(c.main(['scan', '/nonexistent/layout.FCStd']))")
     assert done.returncode == 2
     assert "waferscan: error: /nonexistent/layout.FCStd: no such file" in done.stderr
+
+
+def test_commands_run_in_process_close_the_documents_they_open(paper_layout, tmp_path,
+                                                               capsys):
+    # The console script leaves its documents to the process's end (cad.CLOSE_AFTER_USE);
+    # main() called from a program that goes on must not leave them behind.
+    import FreeCAD as App
+
+    from waferscan import cad, cli
+
+    assert cad.CLOSE_AFTER_USE is True
+    before = set(App.listDocuments())
+    assert cli.main(["layout", str(PAPER), "-o", str(tmp_path / "again.FCStd")]) == 0
+    assert cli.main(["scan", str(paper_layout)]) == 0
+    assert cli.main(["scan", str(PAPER)]) == 0
+    assert cli.main(["crosscheck", str(paper_layout)]) == 0
+    assert set(App.listDocuments()) == before
+    assert CODE in capsys.readouterr().out

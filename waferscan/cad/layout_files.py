@@ -77,14 +77,22 @@ def _document_name(path):
     return name if name[0].isalpha() else "L" + name
 
 
+def done_with(doc):
+    """Close ``doc``, unless this process ends with its command (cad.CLOSE_AFTER_USE)."""
+    from .. import cad
+
+    if cad.CLOSE_AFTER_USE:
+        App.closeDocument(doc.Name)
+
+
 @contextmanager
 def opened_layout(path):
-    """``open_layout`` as a context: the document is closed afterwards."""
+    """``open_layout`` as a context: the document is closed afterwards (``done_with``)."""
     doc = open_layout(path)
     try:
         yield doc
     finally:
-        App.closeDocument(doc.Name)
+        done_with(doc)
 
 
 @contextmanager
