@@ -2,6 +2,7 @@
 crosscheck, and batch runs in freecadcmd whose exit status is the run's."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -120,3 +121,18 @@ def test_commands_run_in_process_close_the_documents_they_open(paper_layout, tmp
     assert cli.main(["crosscheck", str(paper_layout)]) == 0
     assert set(App.listDocuments()) == before
     assert CODE in capsys.readouterr().out
+
+
+def test_the_console_script_leaves_no_cache_folder_behind(paper_layout, tmp_path):
+    # It leaves its documents to the process's end, but not FreeCAD's transient folder of
+    # each (closing a document removes it; the process's end does not).
+    home = tmp_path / "home"
+    home.mkdir()
+    env = dict(os.environ, FREECAD_USER_HOME=str(home))
+    for args in (["scan", paper_layout], ["layout", PAPER, "-o", tmp_path / "x.FCStd"],
+                 ["scan", PAPER]):
+        done = subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)],
+                              cwd=ROOT, capture_output=True, text=True, timeout=300, env=env)
+        assert done.returncode == 0, done.stderr
+    left = list(home.rglob("FreeCAD_Doc_*"))
+    assert left == []

@@ -78,11 +78,18 @@ def _document_name(path):
 
 
 def done_with(doc):
-    """Close ``doc``, unless this process ends with its command (cad.CLOSE_AFTER_USE)."""
+    """Close ``doc``, unless this process ends with its command (cad.CLOSE_AFTER_USE): then
+    only its transient folder (FreeCAD's cache, which closing would remove and the process's
+    end does not) is removed when the process ends."""
     from .. import cad
 
     if cad.CLOSE_AFTER_USE:
         App.closeDocument(doc.Name)
+    else:
+        import atexit
+        import shutil
+
+        atexit.register(shutil.rmtree, doc.TransientDir, ignore_errors=True)
 
 
 @contextmanager
