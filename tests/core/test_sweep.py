@@ -372,3 +372,28 @@ def test_a_partition_sends_a_sample_of_its_margins_not_all_of_them():
     assert len(digest["margins"]["thickness"]["samples"]) == 40
     assert digest["margins"]["thickness"]["max"] == 9999.0
     assert list(digest["margins"]["position"]["samples"]) == [0.0]
+
+
+def test_a_partition_sends_few_values_even_when_its_margins_repeat(monkeypatch):
+    # Thickness readings sit on the step grid: a partition's margins take a few dozen values,
+    # each thousands of times. What partitions send for the percentiles must stay small (the
+    # distinct values of each bracket, once), and the result numpy's.
+    grid = np.round(np.arange(-5, 21) * 0.05, 2)
+    parts = [_fake_partition(np.random.default_rng(s).choice(grid, 40_000), np.arange(3.0))
+             for s in range(4)]
+    sent = []
+    runner = sweep.LocalPartitions()
+    apply = runner.apply
+
+    def counting(function, handles, *extra):
+        answers = apply(function, handles, *extra)
+        if function is sweep.partition_details:
+            sent.extend(len(piece[1]) for a in answers for piece in a["thickness"]["selected"])
+        return answers
+
+    monkeypatch.setattr(runner, "apply", counting)
+    tally = sweep.reduce_partitions(runner, parts)
+    every = np.concatenate([p["margins"]["thickness"] for p in parts])
+    assert 0 < sum(sent) <= 4 * len(grid)
+    for p in sweep.PERCENTILES:
+        assert tally["margins"]["thickness"][f"p{p}"] == np.percentile(every, p)

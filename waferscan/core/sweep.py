@@ -1106,8 +1106,9 @@ def _brackets(digests, key, ranks):
 def partition_details(part, brackets, edges):
     """What a partition adds to the order statistics and histograms: for each kind of margin
     and each (low, high) of ``brackets[key]``, how many of its margins lie below low and those
-    from low to high (sorted); and its histogram over ``edges[key]`` (numpy.histogram's bins),
-    where ``edges`` has the key."""
+    from low to high as distinct values with their counts (readings on the step grid repeat:
+    a block's ~11,000 thickness margins hold ~26 values); and its histogram over
+    ``edges[key]`` (numpy.histogram's bins), where ``edges`` has the key."""
     import numpy as np
 
     out = {}
@@ -1116,12 +1117,26 @@ def partition_details(part, brackets, edges):
         for low, high in brackets.get(key, ()):
             a = int(np.searchsorted(values, low, side="left"))
             b = int(np.searchsorted(values, high, side="right"))
-            pieces.append((a, values[a:b].copy()))
+            pieces.append((a, *np.unique(values[a:b], return_counts=True)))
         hist = None
         if edges.get(key) is not None:
             hist = np.histogram(values, bins=edges[key])[0]
         out[key] = {"selected": pieces, "histogram": hist}
     return out
+
+
+def _nth_between(pieces, r):
+    """The r-th smallest margin (0-based, of every partition) from the partitions' pieces of
+    one bracket: (how many lie below it, its distinct values, their counts)."""
+    import numpy as np
+
+    below = sum(p[0] for p in pieces)
+    values = np.concatenate([p[1] for p in pieces])
+    counts = np.concatenate([p[2] for p in pieces])
+    distinct, where = np.unique(values, return_inverse=True)
+    totals = np.zeros(len(distinct), dtype=np.int64)
+    np.add.at(totals, where.ravel(), counts)
+    return float(distinct[np.searchsorted(np.cumsum(totals), r - below, side="right")])
 
 
 def linear_percentile(count, p, nth):
@@ -1178,7 +1193,7 @@ def reduce_partitions(runner, handles, histograms=False):
         found = [d["extremes"][name] for d in digests if d["extremes"][name] is not None]
         extremes[name] = ((min(f[0] for f in found), max(f[1] for f in found)) if found
                           else None)
-    counts, ends, ranks, brackets, edges = {}, {}, {}, {}, {}
+    counts, ends, ranks, around, brackets, edges = {}, {}, {}, {}, {}, {}
     for key in digests[0]["margins"]:
         held = [d["margins"][key] for d in digests if d["margins"][key]["count"]]
         counts[key] = sum(h["count"] for h in held)
@@ -1186,7 +1201,9 @@ def reduce_partitions(runner, handles, histograms=False):
             continue
         ends[key] = (min(float(h["samples"][0]) for h in held), max(h["max"] for h in held))
         ranks[key] = _wanted_ranks(counts[key])
-        brackets[key] = _brackets(digests, key, ranks[key])
+        around[key] = _brackets(digests, key, ranks[key])  # one for each rank
+        # Neighbouring ranks (a percentile's two) mostly share a bracket: each asked once.
+        brackets[key] = sorted(set(around[key]))
         if histograms:
             edges[key] = np.histogram_bin_edges(ends[key], bins=MARGIN_BINS)
     details = runner.apply(partition_details, handles, brackets, edges) if brackets else []
@@ -1195,11 +1212,9 @@ def reduce_partitions(runner, handles, histograms=False):
         if count == 0:
             margins[key] = None
             continue
-        nth = {}
-        for i, r in enumerate(ranks[key]):
-            below = sum(d[key]["selected"][i][0] for d in details)
-            between = np.sort(np.concatenate([d[key]["selected"][i][1] for d in details]))
-            nth[r] = float(between[r - below])
+        asked = {bracket: i for i, bracket in enumerate(brackets[key])}
+        nth = {r: _nth_between([d[key]["selected"][asked[b]] for d in details], r)
+               for r, b in zip(ranks[key], around[key])}
         dist = {"count": int(count), "min": ends[key][0]}
         for p in PERCENTILES:
             dist[f"p{p}"] = float(linear_percentile(count, p, nth.__getitem__))
