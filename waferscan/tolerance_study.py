@@ -144,12 +144,14 @@ class DaskPartitions:
             index = {f.key: i for i, f in enumerate(futures)}
             done = layouts = 0
             for future in as_completed(futures):
+                if future.status != "finished":
+                    future.result()  # a partition that failed (or was cancelled) raises here
                 done += 1
                 layouts += self.sizes_of(index[future.key])
                 progress(done, len(futures), layouts)
         wait(futures)
-        for future in futures:  # a partition that failed raises its error here
-            if future.status == "error":
+        for future in futures:  # a partition that failed (or was cancelled) raises here
+            if future.status != "finished":
                 future.result()
         return futures
 

@@ -313,7 +313,7 @@ def test_spot_sweep_suggests_the_threshold_halfway_to_the_weakest_peak():
 def test_beam_ranges_in_chunks_are_the_whole_blocks_bit_for_bit(chunk, monkeypatch):
     # scan_block works out the beam's ranges SWEEP_CHUNK wafers at a time (for the cache); a
     # chunk boundary anywhere (every wafer, a prime stride, a block's last partial chunk) must
-    # change nothing, with a tilted beam (the general corners) and level wafers alike.
+    # change nothing, with a tilted beam and tilted wafers (the general corners' path).
     base = sweep.sweep_base(paper())
     tol = parse_tolerances(EVERYTHING)
     draws = sweep.draw_block(base, tol, 11, 0, 60)

@@ -77,8 +77,15 @@ def begin():
     Part.show(box.reversed(), "InsideOut")
     clear = doc.addObject("Part::Box", "SeeThrough")
     clear.Placement.Base = far + App.Vector(0, 300, 0)
+    # A user's PartDesign Body (a shape and a container) whose feature they made see-through:
+    # the Body's view holds the feature's, which must keep both sides.
+    body = doc.addObject("PartDesign::Body", "Body")
+    feature = doc.addObject("PartDesign::AdditiveBox", "PDBox")
+    body.addObject(feature)
+    body.Placement.Base = far + App.Vector(0, -300, 0)
     doc.recompute()
     clear.ViewObject.Transparency = 50
+    feature.ViewObject.Transparency = 60
     state["doc"] = doc
     state["before"] = {o.Name: hints_of(o) for o in doc.Objects if o.ViewObject is not None}
     result["culled_before"] = culled(doc)

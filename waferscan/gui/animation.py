@@ -111,7 +111,10 @@ class ScanAnimation(QtCore.QObject):
                     setattr(view, prop, value)
         # The opaque closed solids drawn without their back faces while it runs (nothing
         # changes on screen; see BackFaces).
-        self.back_faces = BackFaces.culled(opaque_closed_solids(doc))
+        try:
+            self.back_faces = BackFaces.culled(opaque_closed_solids(doc))
+        except Exception:  # a view provider without usable nodes: everything drawn as it is
+            self.back_faces = BackFaces([])
 
     def position(self, frame):
         """The scan position shown at a frame, in the scan's direction."""
@@ -406,6 +409,10 @@ def opaque_closed_solids(doc):
     for obj in doc.Objects:
         view = getattr(obj, "ViewObject", None)
         if view is None or not view.Visibility or not obj.isDerivedFrom("Part::Feature"):
+            continue
+        if obj.hasExtension("App::GroupExtension"):
+            # A container that is a shape too (a PartDesign Body): its view holds its
+            # features' views, each with shape hints of its own; they are judged alone.
             continue
         if getattr(view, "Transparency", 0):
             continue
