@@ -1083,13 +1083,12 @@ def _brackets(digests, key, ranks):
     every sample does)."""
     import numpy as np
 
-    digests = [d["margins"][key] for d in digests]
-    samples = [d["samples"] for d in digests]
-    candidates = np.unique(np.concatenate(samples))
+    kinds = [d["margins"][key] for d in digests]
+    candidates = np.unique(np.concatenate([kind["samples"] for kind in kinds]))
     below_at_most = np.zeros(len(candidates), dtype=np.int64)   # margins < v, at most
     up_to_at_least = np.zeros(len(candidates), dtype=np.int64)  # margins <= v, at least
-    for d in digests:
-        sample, count, stride = d["samples"], d["count"], d["stride"]
+    for kind in kinds:
+        sample, count, stride = kind["samples"], kind["count"], kind["stride"]
         a = np.searchsorted(sample, candidates, side="left")
         below_at_most += np.where(a < len(sample), a * stride, count)
         b = np.searchsorted(sample, candidates, side="right")
