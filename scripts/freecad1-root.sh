@@ -2,12 +2,20 @@
 # Builds (once) a Debian trixie root with FreeCAD 1.0 in it, for `make test-freecad1`, and
 # prints its path. Needs root (debootstrap, chroot, mount).
 #
+# Its standard output is the root's path and nothing else, on one line: every other command's
+# output (apt-get, debootstrap, chroot) goes to standard error, so that no install step's
+# chatter can become part of the path that scripts/freecad1-run.sh reads.
+#
 # The root lives outside the clone, in $WAFERSCAN_CACHE (default /var/cache/waferscan), named
 # after a hash of this file: change the recipe below and the next run builds a new root (and
 # removes the old ones). A root is built in a ".partial" folder and renamed only when complete,
 # so a run that was interrupted leaves no root that looks finished; the next run throws the
 # partial one away and starts again. Safe to run again: with the root in place it only prints it.
 set -euo pipefail
+
+# From here on, standard output is standard error; the path alone is printed on fd 3.
+exec 3>&1 1>&2
+print_root() { printf '%s\n' "$1" >&3; }
 
 here=$(cd "$(dirname "$0")" && pwd -P)
 cache=${WAFERSCAN_CACHE:-/var/cache/waferscan}
@@ -26,7 +34,7 @@ fi
 key=$(sha256sum "$here/freecad1-root.sh" | cut -c1-12)
 root="$cache/$suite-freecad1-$key"
 if [ -e "$root/.complete" ]; then
-  printf '%s\n' "$root"
+  print_root "$root"
   exit 0
 fi
 
@@ -57,7 +65,7 @@ mkdir -p "$cache"
 exec 9>"$cache/.lock"
 flock 9
 if [ -e "$root/.complete" ]; then   # another run finished it while this one waited
-  printf '%s\n' "$root"
+  print_root "$root"
   exit 0
 fi
 
@@ -91,7 +99,7 @@ done
 
 started=$(date +%s)
 say "building $root from $mirror ($suite, minbase)"
-debootstrap --variant=minbase "$suite" "$partial" "$mirror" >&2
+debootstrap --variant=minbase "$suite" "$partial" "$mirror"
 
 # apt inside the root: /proc and /dev for the maintainer scripts; the host's DNS for the mirror.
 cp /etc/resolv.conf "$partial/etc/resolv.conf"
@@ -102,11 +110,11 @@ trap 'exit 130' INT
 trap 'exit 143' TERM
 say "installing ${packages[*]}"
 chroot "$partial" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin DEBIAN_FRONTEND=noninteractive \
-  sh -c "apt-get update && apt-get install -y --no-install-recommends ${packages[*]} && apt-get clean" >&2
+  sh -c "apt-get update && apt-get install -y --no-install-recommends ${packages[*]} && apt-get clean"
 umount "$partial/dev" "$partial/proc"
 trap - EXIT
 
 chroot "$partial" dpkg-query -W -f='${Version}\n' freecad-python3 >"$partial/.complete"
 mv "$partial" "$root"
 say "built in $(( $(date +%s) - started )) s: FreeCAD $(cat "$root/.complete"), $(du -sh --one-file-system "$root" | cut -f1)"
-printf '%s\n' "$root"
+print_root "$root"

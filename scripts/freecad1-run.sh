@@ -11,7 +11,14 @@ set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd -P)
 checkout=$(dirname "$here")
+# The root's path is freecad1-root.sh's whole standard output; check it is one absolute path to a
+# finished root before using it (a message that reached stdout would otherwise become the path).
 root=$("$here/freecad1-root.sh")
+if [[ $root != /* || $root == *$'\n'* || ! -e $root/.complete ]]; then
+  printf 'freecad1-run: error: scripts/freecad1-root.sh printed no finished root'"'"'s path, but:\n%s\n' \
+    "$root" >&2
+  exit 1
+fi
 inside=/waferscan
 
 # One run at a time in a root: a second checkout mounted at the same place would hide the first.
