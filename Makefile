@@ -4,7 +4,7 @@
 SHELL := /bin/bash
 VENV := .venv
 
-.PHONY: setup demo test test-freecad1 clean
+.PHONY: setup demo test test-freecad1 docs ci-fresh clean
 
 setup:
 	./scripts/setup.sh
@@ -19,6 +19,17 @@ test: setup
 # /var/cache/waferscan; needs root), with a venv of its own there. See docs/FREECAD-1.0.md.
 test-freecad1:
 	./scripts/freecad1-run.sh sh -c 'scripts/setup.sh && "$$WAFERSCAN_VENV/bin/python" -m pytest tests -q'
+
+# The documentation site, built offline and strictly (a broken link or a page missing from the
+# navigation fails it) into build/site; `make test` builds it too (tests/docs).
+docs: setup
+	$(VENV)/bin/mkdocs build --strict --site-dir build/site
+
+# The rehearsal of a new machine: .ci/run from a fresh clone of this checkout's HEAD, inside a
+# throwaway Debian bookworm root (minbase, cached in /var/cache/waferscan). Needs root.
+# See docs/contributing.md.
+ci-fresh:
+	./scripts/ci-fresh.sh
 
 # Removes what the build made here; the Mod link and system packages stay.
 clean:

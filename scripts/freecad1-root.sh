@@ -25,6 +25,8 @@ suite=trixie
 packages=(freecad-python3 python3-venv xvfb xauth git ca-certificates)
 
 say() { printf 'freecad1-root: %s\n' "$*" >&2; }
+# shellcheck source=debian-root.sh
+. "$here/debian-root.sh"
 
 if [ "$(id -u)" -ne 0 ]; then
   say "error: needs root (debootstrap, chroot and mount)"
@@ -38,27 +40,8 @@ if [ -e "$root/.complete" ]; then
   exit 0
 fi
 
-# The Debian mirror this machine's apt uses (deb822 sources first, then the one-line format);
-# DEBIAN_MIRROR overrides it.
-mirror=${DEBIAN_MIRROR:-}
-if [ -z "$mirror" ]; then
-  mirror=$(sed -n 's/^URIs:[[:space:]]*\([^[:space:]]*\/debian\)\/\?$/\1/p' \
-             /etc/apt/sources.list.d/*.sources 2>/dev/null | head -n1)
-fi
-if [ -z "$mirror" ]; then
-  mirror=$(sed -n 's/^deb[[:space:]]\+\(\[[^]]*\][[:space:]]\+\)\?\([^[:space:]]*\/debian\)\/\?[[:space:]].*/\2/p' \
-             /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null | head -n1)
-fi
-if [ -z "$mirror" ]; then
-  say "error: no Debian mirror found in /etc/apt/sources.list*; set DEBIAN_MIRROR"
-  exit 1
-fi
-
-if ! command -v debootstrap >/dev/null 2>&1; then
-  say "installing debootstrap"
-  apt-get update
-  DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends debootstrap
-fi
+mirror=$(debian_mirror)
+ensure_debootstrap
 
 mkdir -p "$cache"
 # One builder at a time (two CI runs on one machine wait for each other).
@@ -68,23 +51,6 @@ if [ -e "$root/.complete" ]; then   # another run finished it while this one wai
   print_root "$root"
   exit 0
 fi
-
-# Removes a root or a partial one. Never through a mount: a root left mounted by a killed
-# run would otherwise take the bind-mounted checkout with it.
-remove_root() {
-  local dir=$1 mounted
-  mounted=$(findmnt -rn -o TARGET | awk -v d="$dir" 'index($0, d "/") == 1 || $0 == d' | sort -r)
-  if [ -n "$mounted" ]; then
-    say "unmounting what a previous run left mounted in $dir"
-    while read -r target; do umount -l "$target"; done <<<"$mounted"
-  fi
-  # A bind mount from the same disk would not stop rm --one-file-system: check, then remove.
-  if findmnt -rn -o TARGET | awk -v d="$dir" 'index($0, d "/") == 1 || $0 == d' | grep -q .; then
-    say "error: something is still mounted in $dir; not removing it"
-    exit 1
-  fi
-  rm -rf --one-file-system "$dir"
-}
 
 partial="$root.partial"
 # Anything else here is a root of another recipe, or one an interrupted run left unfinished.

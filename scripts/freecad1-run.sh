@@ -11,12 +11,15 @@ set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd -P)
 checkout=$(dirname "$here")
+say() { printf 'freecad1-run: %s\n' "$*" >&2; }
+# shellcheck source=debian-root.sh
+. "$here/debian-root.sh"
 # The root's path is freecad1-root.sh's whole standard output; check it is one absolute path to a
 # finished root before using it (a message that reached stdout would otherwise become the path).
 root=$("$here/freecad1-root.sh")
 if [[ $root != /* || $root == *$'\n'* || ! -e $root/.complete ]]; then
-  printf 'freecad1-run: error: scripts/freecad1-root.sh printed no finished root'"'"'s path, but:\n%s\n' \
-    "$root" >&2
+  say "error: scripts/freecad1-root.sh printed no finished root's path, but:"
+  printf '%s\n' "$root" >&2
   exit 1
 fi
 inside=/waferscan
@@ -25,8 +28,7 @@ inside=/waferscan
 exec 8>"$root.run-lock"
 flock 8
 # A run killed outright (SIGKILL) leaves its mounts behind; with the lock held they are no one's.
-findmnt -rn -o TARGET | awk -v d="$root" 'index($0, d "/") == 1' | sort -r |
-  while read -r target; do umount -l "$target"; done
+unmount_under "$root"
 
 mounted=()
 cleanup() {

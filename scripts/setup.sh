@@ -17,15 +17,23 @@ missing=()
 command -v freecadcmd >/dev/null 2>&1 || missing+=(freecad-python3)
 command -v xvfb-run >/dev/null 2>&1 || missing+=(xvfb)
 command -v xauth >/dev/null 2>&1 || missing+=(xauth)
+# The tests: git (the Addon Manager test clones the addon), debootstrap (to build make
+# test-freecad1's root; not inside that root, where freecad1-run.sh sets WAFERSCAN_VENV), and
+# the certificate authorities pip needs (a minbase system has none).
+command -v git >/dev/null 2>&1 || missing+=(git)
+[ -n "${WAFERSCAN_VENV:-}" ] || command -v debootstrap >/dev/null 2>&1 || missing+=(debootstrap)
+[ -s /etc/ssl/certs/ca-certificates.crt ] && dpkg-query -W -f='${Status}' ca-certificates 2>/dev/null |
+  grep -q 'install ok installed' || missing+=(ca-certificates)
 dpkg-query -W -f='${Status}' python3-venv 2>/dev/null | grep -q 'install ok installed' \
   || missing+=(python3-venv)
 if ((${#missing[@]})); then
   say "installing system packages (missing: ${missing[*]})"
   sudo=()
   [ "$(id -u)" -eq 0 ] || sudo=(sudo)
-  "${sudo[@]}" apt-get update
+  # apt's own output goes to stderr: nothing a set-up step prints may reach a value another reads.
+  "${sudo[@]}" apt-get update >&2
   "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-    freecad-python3 python3-venv xvfb xauth
+    "${missing[@]}" >&2
 fi
 
 # 2. Ask FreeCAD where its Python modules and its user data folder are (one start-up).

@@ -4,6 +4,7 @@ cases and can be repeated; HYPOTHESIS_PROFILE=explore draws new ones, to look fo
 
 import os
 import sys
+import time
 from pathlib import Path
 
 from hypothesis import settings
@@ -18,3 +19,46 @@ if str(TESTS) not in sys.path:
     sys.path.insert(0, str(TESTS))
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
+
+
+# --- No process outlives the suite -------------------------------------------------------
+# Every process started during the run carries RUN_VARIABLE (tests/processes.py). After each
+# test (its fixtures that end with it torn down), a process of the run still alive is a leak:
+# it is ended there and then, so nothing piles up, and recorded; the suite's last test
+# (tests/test_zz_processes.py) fails naming every leak. Ctrl-C or a crash of pytest still
+# ends them (pytest_unconfigure).
+import pytest  # noqa: E402
+
+from processes import LEAKS, RUN_VARIABLE, end_processes, processes_of_this_run  # noqa: E402
+
+os.environ.setdefault(RUN_VARIABLE, f"{os.getpid()}-{os.urandom(6).hex()}")
+LAST_TEST = "test_zz_processes.py"
+_ours = processes_of_this_run
+
+
+def pytest_collection_modifyitems(items):
+    """The leak check runs last, after every other test (and its module's fixtures) ended."""
+    last = [item for item in items if item.path.name == LAST_TEST]
+    items[:] = [item for item in items if item.path.name != LAST_TEST] + last
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    yield
+    left = _ours()
+    if left:
+        # A process being stopped may need a moment to go: look again before calling it a leak.
+        deadline = time.monotonic() + 5.0
+        while left and time.monotonic() < deadline:
+            time.sleep(0.1)
+            left = _ours()
+    if left and nextitem is not None and nextitem.path == item.path:
+        # Still alive for a fixture the next test of this module shares: judged at its end.
+        return
+    for process in left:
+        LEAKS.append((item.nodeid, process))
+    end_processes(left)
+
+
+def pytest_unconfigure(config):
+    end_processes(_ours())

@@ -7,12 +7,12 @@ import json
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from processes import RUN_VARIABLE, run_in_own_group
 
 REPO = Path(__file__).resolve().parents[2]
 PAPER = REPO / "resources" / "examples" / "paper.toml"
@@ -62,9 +62,9 @@ print("WS_RESULT=" + json.dumps(result))
 
 def _freecad_env(home):
     """A FreeCAD with a fresh user folder and nothing of the project's set-up: no venv (not
-    WAFERSCAN_VENV either), no PYTHONPATH."""
+    WAFERSCAN_VENV either), no PYTHONPATH; only the test run's mark (tests/processes.py)."""
     return {"PATH": "/usr/bin:/bin", "HOME": str(home), "FREECAD_USER_HOME": str(home),
-            "LANG": "C.UTF-8"}
+            "LANG": "C.UTF-8", RUN_VARIABLE: os.environ[RUN_VARIABLE]}
 
 
 def _user_data_dir(home):
@@ -175,13 +175,8 @@ def test_in_the_gui_a_robot_layout_gives_the_message_and_a_robotless_one_builds(
                WAFERSCAN_ROBOTLESS=str(installed["robotless"]))
     command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
                str(result_file.with_name("user.cfg")), str(GUI_PROBE)]
-    proc = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
-    try:
-        output, _ = proc.communicate(timeout=180)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)  # xvfb-run, Xvfb and FreeCAD all go
-        output, _ = proc.communicate()
+    _, output, timed_out = run_in_own_group(command, timeout=180, env=env)
+    if timed_out:
         pytest.fail(f"FreeCAD GUI did not quit within 180 s:\n{output}")
     assert result_file.exists(), f"the probe wrote no result:\n{output}"
     result = json.loads(result_file.read_text(encoding="utf-8"))

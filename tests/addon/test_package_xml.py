@@ -4,6 +4,7 @@ Manager's dependency walk, both from the FreeCAD that runs the tests (0.20.2 on 
 
 import ast
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -13,6 +14,7 @@ import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
 import pytest
+from processes import RUN_VARIABLE
 
 REPO = Path(__file__).resolve().parents[2]
 PACKAGE_XML = REPO / "package.xml"
@@ -98,7 +100,8 @@ def test_the_addon_manager_reads_the_dependencies(metadata, tmp_path):
     proc = subprocess.run([FREECADCMD, "-c", probe], capture_output=True, text=True,
                           timeout=120, stdin=subprocess.DEVNULL, cwd=tmp_path,
                           env={"PATH": "/usr/bin:/bin", "HOME": str(tmp_path),
-                               "FREECAD_USER_HOME": str(tmp_path), "LANG": "C.UTF-8"})
+                               "FREECAD_USER_HOME": str(tmp_path), "LANG": "C.UTF-8",
+                               RUN_VARIABLE: os.environ[RUN_VARIABLE]})
     lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("WS_RESULT=")]
     assert proc.returncode == 0 and lines, f"{proc.stdout}\n{proc.stderr}"
     result = json.loads(lines[-1][len("WS_RESULT="):])
@@ -112,3 +115,13 @@ def test_the_addon_manager_reads_the_dependencies(metadata, tmp_path):
         # 0.20's lists it among the required ones, which it cannot install: it says so
         # ("must install the following Python packages manually") and installs on OK.
         assert result["required"] == ["numpy", "pinocchio"] and result["optional"] == []
+
+
+def test_the_licence_file_is_the_lgpl_and_every_metadata_names_it(metadata):
+    (licence,) = metadata.License
+    assert licence == {"name": "LGPL-2.1-or-later", "file": "LICENSE"}
+    text = (REPO / licence["file"]).read_text(encoding="utf-8")
+    assert "GNU LESSER GENERAL PUBLIC LICENSE" in text and "Version 2.1, February 1999" in text
+    project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert project["license"] == licence["name"]
+    assert project["license-files"] == [licence["file"]]

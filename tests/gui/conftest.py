@@ -4,11 +4,10 @@ file whose path it gets in WAFERSCAN_GUI_RESULT."""
 import json
 import os
 import shutil
-import signal
-import subprocess
 from pathlib import Path
 
 import pytest
+from processes import run_in_own_group
 
 FREECAD = shutil.which("freecad")
 PROBES = Path(__file__).resolve().parent  # probes import probe_steps from here
@@ -30,17 +29,12 @@ def run_gui_probe(tmp_path_factory):
         user_cfg = result_file.with_name("user.cfg")
         command = ["xvfb-run", "-a", "-s", f"-screen 0 {screen}x24", FREECAD, "-u",
                    str(user_cfg), str(probe)]
-        # Own process group: on a timeout, xvfb-run, Xvfb and FreeCAD all go.
-        proc = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL,
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                start_new_session=True)
-        try:
-            output, _ = proc.communicate(timeout=TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            output, _ = proc.communicate()
+        # Own process group: however the probe ends (done, timeout, Ctrl-C), xvfb-run, Xvfb and
+        # FreeCAD all go with it.
+        returncode, output, timed_out = run_in_own_group(command, timeout=TIMEOUT_S, env=env)
+        if timed_out:
             pytest.fail(f"FreeCAD GUI did not quit within {TIMEOUT_S} s:\n{output}")
-        assert result_file.exists(), f"the probe wrote no result (rc {proc.returncode}):\n{output}"
+        assert result_file.exists(), f"the probe wrote no result (rc {returncode}):\n{output}"
         result = json.loads(result_file.read_text(encoding="utf-8"))
         assert result["ok"], result.get("error")
         return result
