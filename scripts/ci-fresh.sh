@@ -38,16 +38,16 @@ if ! git -C "$checkout" diff --quiet HEAD 2>/dev/null; then
   say "note: uncommitted changes are not part of the rehearsal (it clones HEAD)"
 fi
 
-# 1. The minbase root, built once (its recipe: the suite, the variant, debian-root.sh's mirror).
+# 1. The minbase root, built once (named after its recipe: the suite, the variant, the mirror).
 suite=bookworm
-key=$(cat "$here/ci-fresh.sh" "$here/debian-root.sh" | sha256sum | cut -c1-12)
+mirror=$(debian_mirror)
+key=$(printf '%s minbase %s\n' "$suite" "$mirror" | sha256sum | cut -c1-12)
 base="$cache/$suite-minbase-$key"
 mkdir -p "$cache"
 if [ ! -e "$base/.complete" ]; then
   exec 9>"$cache/.lock"
   flock 9
   if [ ! -e "$base/.complete" ]; then
-    mirror=$(debian_mirror)
     ensure_debootstrap
     for old in "$cache"/$suite-minbase-*; do
       [ -d "$old" ] && { say "removing $old"; remove_root "$old"; }
@@ -62,35 +62,29 @@ if [ ! -e "$base/.complete" ]; then
   exec 9>&-
 fi
 
-# 2. This run's root: an overlay over the minbase root (or a copy of it).
+# 2. This run's root: an overlay over the minbase root (or a copy of it). Each run holds a lock
+#    on its folder while it lives; a folder whose lock is free is a killed run's: removed.
 mkdir -p "$cache/ci-fresh-runs"
+for old in "$cache"/ci-fresh-runs/run.*; do
+  [ -d "$old" ] || continue
+  if flock -n "$old/.lock" true 2>/dev/null; then
+    say "removing $old (a run that was killed)"
+    remove_root "$old"
+  fi
+done
 run=$(mktemp -d "$cache/ci-fresh-runs/run.XXXXXX")
+exec 7>"$run/.lock"
+flock 7
 root="$run/root"
 mkdir -p "$root" "$run/upper" "$run/work"
 status=0
 finish() {
-  local pids
   trap - EXIT INT TERM
   # Processes still running in the root (a stray Xvfb, a watcher): they would outlive CI too.
-  pids=$(processes_in "$root")
-  if [ -n "$pids" ]; then
-    say "error: processes left running in the root after .ci/run:"
-    ps -o pid=,etime=,args= -p "$(tr '\n' ',' <<<"$pids" | sed 's/,$//')" >&2 || true
-    kill -KILL $pids 2>/dev/null || true
-    [ "$status" -ne 0 ] || status=1
-  fi
+  end_processes_in "$root" ".ci/run" || { [ "$status" -ne 0 ] || status=1; }
   unmount_under "$root"
-  [ -n "${KEEP_ROOT:-}" ] && say "kept $run (KEEP_ROOT)" || remove_root "$run"
+  if [ -n "${KEEP_ROOT:-}" ]; then say "kept $run (KEEP_ROOT)"; else remove_root "$run"; fi
   exit "$status"
-}
-# processes_in DIR: the processes whose root directory is DIR (they run in that chroot).
-processes_in() {
-  local proc pid
-  for proc in /proc/[0-9]*; do
-    pid=${proc#/proc/}
-    [ "$(readlink "$proc/root" 2>/dev/null)" = "$1" ] && printf '%s\n' "$pid"
-  done
-  return 0
 }
 trap finish EXIT
 trap 'status=130; exit 130' INT

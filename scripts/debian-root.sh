@@ -56,3 +56,27 @@ remove_root() {
   fi
   rm -rf --one-file-system "$dir"
 }
+
+# processes_in DIR: the processes whose root directory is DIR (they run chrooted there).
+processes_in() {
+  local proc
+  for proc in /proc/[0-9]*; do
+    [ "$(readlink "$proc/root" 2>/dev/null)" = "$1" ] && printf '%s\n' "${proc#/proc/}"
+  done
+  return 0
+}
+
+# end_processes_in DIR WHAT: ends the processes still running chrooted in DIR, naming each
+# (WHAT says after what); returns 1 if there were any.
+end_processes_in() {
+  local pids
+  pids=$(processes_in "$1")
+  [ -n "$pids" ] || return 0
+  say "error: processes left running in $1 after $2:"
+  ps -o pid=,etime=,args= -p "$(paste -sd, <<<"$pids")" >&2 || true
+  kill -TERM $pids 2>/dev/null || true
+  sleep 2
+  pids=$(processes_in "$1")
+  [ -z "$pids" ] || kill -KILL $pids 2>/dev/null || true
+  return 1
+}

@@ -33,14 +33,18 @@ unmount_under "$root"
 mounted=()
 cleanup() {
   local i
+  # A process the command left running in the root (a stray Xvfb) would hold its files and pile
+  # up run after run: end it, name it, and fail the run.
+  end_processes_in "$root" "the command" || { [ "$status" -ne 0 ] || status=1; }
   for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do
     # -l: a process still holding a file there (a stray Xvfb) must not keep the mount.
     umount "${mounted[i]}" 2>/dev/null || umount -l "${mounted[i]}" || true
   done
 }
-trap cleanup EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
+status=0
+trap 'cleanup; exit "$status"' EXIT
+trap 'status=130; exit' INT
+trap 'status=143; exit' TERM
 
 mount_in() {   # mount_in TARGET MOUNT-ARGS...
   local target="$root$1"
@@ -69,7 +73,6 @@ for name in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY HYPO
 done
 
 [ $# -gt 0 ] || set -- bash
-status=0
 chroot "$root" /usr/bin/env -i \
   HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
   LANG=C.UTF-8 TERM="${TERM:-dumb}" DEBIAN_FRONTEND=noninteractive \

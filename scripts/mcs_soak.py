@@ -1,4 +1,4 @@
-"""Soak and time the real MCS link from outside, as an MCS meets it (RELIABILITY.md's figures).
+"""Soak and time the real MCS link from outside, as an MCS meets it (docs/reliability.md's figures).
 
     .venv/bin/python scripts/mcs_soak.py [--commands 2000] [--engine analytic]
         [--z-step 0.05] [--interval 0.02] [--history-lines 100000] [--idle 10]

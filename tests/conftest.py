@@ -3,6 +3,7 @@ repository root. Hypothesis runs derandomised, so that every run (CI's too) trie
 cases and can be repeated; HYPOTHESIS_PROFILE=explore draws new ones, to look for bugs."""
 
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -58,6 +59,15 @@ def pytest_runtest_protocol(item, nextitem):
     for process in left:
         LEAKS.append((item.nodeid, process))
     end_processes(left)
+
+
+def _stop_on_sigterm(signum, frame):
+    """SIGTERM (a CI job's time limit, a `kill`) stops the run as Ctrl-C does, so that
+    pytest_unconfigure still ends the run's processes."""
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+signal.signal(signal.SIGTERM, _stop_on_sigterm)
 
 
 def pytest_unconfigure(config):

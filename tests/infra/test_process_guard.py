@@ -73,6 +73,12 @@ def test_leaves_a_process():
 def test_is_interrupted():
     subprocess.Popen(["sleep", "66"])
     raise KeyboardInterrupt
+
+def test_is_terminated():
+    import os, signal, time
+    subprocess.Popen(["sleep", "67"])
+    os.kill(os.getpid(), signal.SIGTERM)
+    time.sleep(30)
 '''
 
 
@@ -109,10 +115,11 @@ def test_a_leak_fails_the_suite_naming_the_test_and_the_process_is_ended(suite):
         end_processes(processes_of_run(run_id))
 
 
-def test_ctrl_c_ends_what_the_interrupted_test_started(suite):
-    run_id = f"guard-interrupt-{os.getpid()}"
+@pytest.mark.parametrize("how", ["interrupted", "terminated"])
+def test_ctrl_c_or_sigterm_ends_what_the_stopped_test_started(suite, how):
+    run_id = f"guard-{how}-{os.getpid()}"
     try:
-        proc = _pytest(suite, run_id, "-k", "interrupted")
+        proc = _pytest(suite, run_id, "-k", how)
         assert proc.returncode == 2, proc.stdout  # pytest's exit status for an interrupted run
         assert "KeyboardInterrupt" in proc.stdout
         assert _commands(run_id) == []
