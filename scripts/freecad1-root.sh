@@ -7,8 +7,9 @@
 # chatter can become part of the path that scripts/freecad1-run.sh reads.
 #
 # The root lives outside the clone, in $WAFERSCAN_CACHE (default /var/cache/waferscan), named
-# after a hash of this file: change the recipe below and the next run builds a new root (and
-# removes the old ones). A root is built in a ".partial" folder and renamed only when complete,
+# after a hash of its recipe (the suite, the packages, ROOT_RECIPE_VERSION): change the recipe
+# and the next run builds a new root (and removes the old ones); editing the rest of the
+# script does not. A root is built in a ".partial" folder and renamed only when complete,
 # so a run that was interrupted leaves no root that looks finished; the next run throws the
 # partial one away and starts again. Safe to run again: with the root in place it only prints it.
 set -euo pipefail
@@ -23,6 +24,8 @@ suite=trixie
 # What the tests need inside the root: FreeCAD 1.0, a venv for pin, a display for the GUI
 # tests, git for the Addon Manager test (it clones the addon), certificates for pip.
 packages=(freecad-python3 python3-venv xvfb xauth git ca-certificates)
+# Raise it when the way the root is built changes in a way the suite and packages do not show.
+ROOT_RECIPE_VERSION=1
 
 say() { printf 'freecad1-root: %s\n' "$*" >&2; }
 # shellcheck source=debian-root.sh
@@ -33,7 +36,7 @@ if [ "$(id -u)" -ne 0 ]; then
   exit 1
 fi
 
-key=$(sha256sum "$here/freecad1-root.sh" | cut -c1-12)
+key=$(printf '%s\n' "$suite" "${packages[*]}" "$ROOT_RECIPE_VERSION" | sha256sum | cut -c1-12)
 root="$cache/$suite-freecad1-$key"
 if [ -e "$root/.complete" ]; then
   print_root "$root"
