@@ -366,7 +366,7 @@ def saved_layout(scenario_path, folder):
 
 
 def bench_startup(layout_path, paper, rounds, add):
-    """`waferscan scan LAYOUT.FCStd` and README's `freecadcmd -c` form against
+    """`waferscan scan LAYOUT.FCStd` and the documented `freecadcmd -c` form against
     `freecadcmd -c "import Part, numpy"`, process to process, interleaved."""
     script = (f"import sys, waferscan.cli as c; "
               f"sys.exit(c.main(['scan', {str(layout_path)!r}, '--json']))")
@@ -714,7 +714,7 @@ def bench_sweep(paper, rounds, add, quick=False):
     n_ideal = 20_000 if quick else 100_000
     n_spot = 100 if quick else 500
     # The same tolerances but a level beam: a tilted beam takes translation_range's general
-    # (corner) path in every column of the spot, a level one its closed form (BENCHMARKS.md).
+    # (corner) path in every column of the spot, a level one its closed form (docs/performance.md).
     level = replace(tolerances, quantities={k: v for k, v in tolerances.quantities.items()
                                             if k != "beam_tilt"})
     tasks = {

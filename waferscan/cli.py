@@ -190,7 +190,8 @@ def cmd_scan(args):
 
 
 def cmd_calibrate(args):
-    """SPEC §11: calibrate from reference wafers; exit 3, 4, 5 for the failures (README)."""
+    """SPEC §11: calibrate from reference wafers; exit 3, 4, 5 for the failures (docs:
+    tutorials/recipes-calibration.md)."""
     from .cad.document_calibration import calibrate_input
     from .core.calibration import EXIT_CODES, CalibrationError, format_calibration
 

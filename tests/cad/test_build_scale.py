@@ -116,7 +116,7 @@ def test_layouts_are_saved_with_binary_shapes_and_read_back(closing, tmp_path, b
     finally:
         group.RemBool("SaveBinaryBrep")
     # FreeCAD 0.20 names the shape files PartShape<N>.bin, 1.0 <Object>.Shape.bin (next to
-    # <Object>.Shape.Map.txt element maps; docs/FREECAD-1.0.md); the extension tells binary
+    # <Object>.Shape.Map.txt element maps; docs/freecad-1.0.md); the extension tells binary
     # (.bin) from text (.brp) either way.
     shapes = [n for n in zipfile.ZipFile(path).namelist()
               if re.fullmatch(r"(PartShape\d*|.+\.Shape)\.(bin|brp)", n)]

@@ -94,7 +94,8 @@ def freecadcmd(code):
 
 
 def test_batch_run_in_freecadcmd(paper_layout):
-    """The README's batch run: the JSON on stdout is clean, the exit status is the run's."""
+    """The documented batch run (docs/reference/command-line.md): the JSON on stdout is clean,
+    the exit status is the run's."""
     done = freecadcmd("import sys, waferscan.cli as c; "
                       f"sys.exit(c.main(['scan', {str(paper_layout)!r}, '--json']))")
     assert done.returncode == 0, done.stderr

@@ -1,6 +1,6 @@
-"""``waferscan sweep`` in README's ``freecadcmd -c`` form: Dask's local workers start (with the
-venv's Python, not freecadcmd) and the summary is the library's for the same seed, although
-FreeCAD's Python runs Debian's numpy 1.24 and the venv numpy 2.x."""
+"""``waferscan sweep`` in the documented ``freecadcmd -c`` form: Dask's local workers start
+(with the venv's Python, not freecadcmd) and the summary is the library's for the same seed,
+although FreeCAD's Python runs Debian's numpy 1.24 and the venv numpy 2.x."""
 
 import json
 import os

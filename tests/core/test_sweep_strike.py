@@ -89,7 +89,8 @@ def test_the_bundled_robots_tine_enters_a_seated_wafer_at_1_618_degrees():
     hand = hand_strike(26.6)
     assert [c for span in strike for c in span] == pytest.approx(
         [c for span in hand for c in span], abs=1e-9)
-    # The README's figures: -32.588 .. -1.618 and +1.618 .. +32.588 degrees.
+    # The documented figures (docs/tutorials/slow-scanning.md): -32.588 .. -1.618 and +1.618 ..
+    # +32.588 degrees.
     assert [round(c, 3) for span in strike for c in span] == [-32.588, -1.618, 1.618, 32.588]
 
 

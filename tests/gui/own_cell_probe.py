@@ -160,7 +160,7 @@ def begin():
                for o in doc.Objects):
         # FreeCAD 1.0's default rebuilds the App::Part tree of single solids instead of 0.20.2's
         # one merged compound, and neither merge=True nor Part.insert gives one compound
-        # (docs/FREECAD-1.0.md): the compound this probe splits is then the file's one shape.
+        # (docs/freecad-1.0.md): the compound this probe splits is then the file's one shape.
         App.closeDocument(doc.Name)
         doc = App.newDocument("MergedCell")
         doc.addObject("Part::Feature", "own_cell").Shape = Part.read(STEP_FILE)

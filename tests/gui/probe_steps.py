@@ -68,7 +68,7 @@ def start(first_step, ms=800):
 
 def task_dock():
     """The dock that holds FreeCAD's task view, as a list of none or one: the Combo View in
-    0.20.2, its own "Tasks" dock in 1.0's default layout (docs/FREECAD-1.0.md)."""
+    0.20.2, its own "Tasks" dock in 1.0's default layout (docs/freecad-1.0.md)."""
     import FreeCADGui as Gui
 
     window = Gui.getMainWindow()

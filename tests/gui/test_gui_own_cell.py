@@ -82,7 +82,7 @@ def test_a_container_carrier_turns_see_through_and_a_solid_scanner_keeps_its_col
 
 def test_a_link_group_import_is_scanned_as_the_tree_shows_it(cell):
     gui, folder = cell
-    # 0.20.2 imports the tree as link groups, 1.0 as App::Parts (docs/FREECAD-1.0.md)
+    # 0.20.2 imports the tree as link groups, 1.0 as App::Parts (docs/freecad-1.0.md)
     assert "App::LinkGroup" in gui["link_types"] or "App::Part" in gui["link_types"]
     scene = gui["link_scene"]
     assert scene["wafers"] == ["MyCell/FOUP/W1", "MyCell/FOUP/W3"]

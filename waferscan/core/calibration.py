@@ -35,7 +35,7 @@ from .recipe import RECIPE_KEYS, resolved_values
 NO_BOTTOM_WAFER = "no-bottom-wafer"
 NO_TOP_WAFER = "no-top-wafer"
 CHECK_FAILED = "check-failed"
-# The command line's exit status for each failure (README "Recipes and calibration"); 2 stays
+# The command line's exit status for each failure (docs/tutorials/recipes-calibration.md); 2 stays
 # bad input, 1 an internal fault.
 EXIT_CODES = {NO_BOTTOM_WAFER: 3, NO_TOP_WAFER: 4, CHECK_FAILED: 5}
 

@@ -1,5 +1,5 @@
 """The MCS link as a protocol: watch commands.txt, carry out each seq exactly once, answer in
-results.txt. RELIABILITY.md lists every rule below with the test that holds it.
+results.txt. docs/reliability.md lists every rule below with the test that holds it.
 
 - One folder, one link: the link holds an exclusive lock (``flock``) on ``.waferscan.lock`` in
   the folder while it lives; a second one is refused (``FolderBusy``).

@@ -23,7 +23,8 @@ part crosses the rim or its line is tangent to the rim, both closed forms (a cos
 the blocked state is tested between consecutive candidates. Exact up to rounding (≤ 1e-9 deg,
 tested). Any other wafer (tilted, cross-slotted) is bracketed on a grid of at most
 ``SWEEP_GRID_DEG`` and each change bisected with the exact test to ``SWEEP_TOLERANCE_DEG``; a
-blocked interval narrower than the grid step can be missed there (documented, README).
+blocked interval narrower than the grid step can be missed there (documented:
+docs/tutorials/slow-scanning.md).
 
 What the MCS judges from them: a front nearer than a seated wafer's by more than the protrusion
 limit is a protruding wafer (6, when a jab was made it replaces the load port's check in the

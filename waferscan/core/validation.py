@@ -8,7 +8,7 @@ the same limits for every reader. ``layout_problems`` returns ``Problem(key, mes
 tuples in the scenario format's words (``slots``, ``pitch``, ``sensor_response``…); each reader
 turns them into its own file, line, key or object property.
 
-The limits also bound what one scan may cost (RELIABILITY.md lists them): at most
+The limits also bound what one scan may cost (docs/reliability.md lists them): at most
 ``MAX_SLOTS`` slots a carrier, ``MAX_CARRIERS`` carriers, ``MAX_WAFERS`` wafers, and
 ``schema.MAX_POSITIONS`` stepped positions.
 """
