@@ -123,12 +123,18 @@ def console_steps(source):
 
 
 def run_command(command, page):
-    """Run one shown command as a reader would, in the page's folder; (status, output)."""
-    done = subprocess.run(["bash", "-o", "pipefail", "-c", command], cwd=page.folder,
-                          env=page.env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                          stderr=subprocess.STDOUT, timeout=COMMAND_TIMEOUT,
-                          start_new_session=True)
-    return done.returncode, done.stdout.decode("utf-8", errors="replace")
+    """Run one shown command as a reader would, in the page's folder; (status, output). The
+    command runs in a process group of its own, ended whole if it outlives its time."""
+    process = subprocess.Popen(["bash", "-o", "pipefail", "-c", command], cwd=page.folder,
+                               env=page.env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        output, _ = process.communicate(timeout=COMMAND_TIMEOUT)
+    except BaseException:  # the timeout, or Ctrl-C
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
+        raise
+    return process.returncode, output.decode("utf-8", errors="replace")
 
 
 def evaluate_console(example):
@@ -183,8 +189,8 @@ class FencedBlockParser:
         for region in self.lexer(document):
             info = region.lexemes["info"].strip()
             language = info.split()[0]
-            if language == "python" or language in SHOWN_LANGUAGES:
-                continue
+            if info == "python" or language in SHOWN_LANGUAGES:
+                continue  # PythonCodeBlockParser's, or shown only
             if language == "console":
                 region.parsed = str(region.lexemes["source"])
                 region.evaluator = evaluate_console
