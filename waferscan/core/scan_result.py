@@ -266,18 +266,28 @@ def protruding_slots(carrier, plan, wafers):
     front edge alone, so a wafer is flagged however it is seated (SPEC §4). The slot it occupies
     is the one whose seat is nearest its bottom edge, and every slot whose seat its Z extent
     spans (a tilted, cross-slotted wafer occupies both of its slots)."""
-    slots = set()
+    by_slot, found = protrusions_by_slot(carrier, plan, wafers)
+    return sorted(by_slot), found
+
+
+def protrusions_by_slot(carrier, plan, wafers):
+    """({slot: [(wafer name, protrusion mm), …]} for the slots ``protruding_slots`` flags, and
+    every carrier wafer's (name, protrusion)): which wafers make a slot protrude, and by how
+    much, for the words of a finding."""
+    by_slot = {}
     found = []
     limit = plan.protrusion_limit
     for wafer, amount in _carrier_protrusions(carrier, wafers):
         found.append((wafer.name, amount))
         if amount > limit:
             (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
-            slots.add(plan.nearest_slot(z0))
+            slots = {plan.nearest_slot(z0)}
             for slot in range(1, plan.slot_count + 1):
                 if z0 <= plan.seat_z(slot) <= z1:
                     slots.add(slot)
-    return sorted(slots), tuple(found)
+            for slot in slots:
+                by_slot.setdefault(slot, []).append((wafer.name, amount))
+    return by_slot, tuple(found)
 
 
 def scanned_range(scan, window=None):
