@@ -61,8 +61,8 @@ def test_calibrate_prints_and_writes_a_recipe_that_scan_accepts_as_is(tmp_path):
 @pytest.mark.parametrize("load, recipe, status, words", [
     ("0100100001000010000100011", TAUGHT, 3, "no-bottom-wafer: no wafer in the bottom slot"),
     ("1100100001000010000100010", TAUGHT, 4, "no-top-wafer: no wafer in the top slot"),
-    (LOAD, TAUGHT + "thickness_min = 0.69\nthickness_max = 0.71\n", 5,
-     "check-failed: check scan failed: slot 1 read 3 (double); slot 25 read 4 (thin)"),
+    (LOAD, TAUGHT + "thickness_min = 0.64\nthickness_max = 0.71\n", 5,
+     "check-failed: check scan failed: slot 1 read 3 (double) (code 3"),
 ])
 def test_each_failure_has_its_exit_status_and_leaves_the_recipe_file_alone(tmp_path, load,
                                                                           recipe, status, words):
@@ -166,10 +166,36 @@ def test_json_gives_both_recipes_and_the_check_scan_or_the_failure(tmp_path):
     assert data["recipe"]["first_slot_z"]["calibrated"] == pytest.approx(294.24, abs=0.05)
     assert data["recipe"]["rules"] == {"current": "waferscan", "calibrated": "waferscan"}
     assert data["check"]["params"]["slot_pitch"] == data["recipe"]["slot_pitch"]["calibrated"]
-    taught.write_text(TAUGHT + "thickness_min = 0.69\nthickness_max = 0.71\n")
+    taught.write_text(TAUGHT + "thickness_min = 0.64\nthickness_max = 0.71\n")
     done = run("calibrate", drifted, "--params", taught, "--json")
     assert done.returncode == 5
     failure = json.loads(done.stdout)
     assert (failure["status"], failure["failure"]) == ("error", "check-failed")
     assert failure["message"].startswith("check scan failed: slot 1 read 3 (double)")
-    assert failure["code"][0] == "3" and failure["code"][-1] == "4"
+    assert failure["code"][0] == "3" and failure["code"][-1] == "1"
+
+
+CASES = ROOT / "tests" / "data" / "calibration"
+
+
+@pytest.mark.parametrize("name, status, words", [
+    ("double_reference", 3, "no-bottom-wafer: no single wafer in the bottom slot (slot 1): its "
+                            "run, 1.550 mm at z = 100.000, is longer than thickness_max 1.1625 mm "
+                            "(double or thick)\n"),
+    ("thin_references", 3, "no-bottom-wafer: no single wafer in the bottom slot (slot 1): its "
+                           "run, "),
+    ("high_bottom_reference", 5, "check-failed: check scan failed: slot 2 read 5 (position error) "
+                                 "(code 15001)\n"),
+    ("stray_below", 3, "no-bottom-wafer: no wafer in the bottom slot (slot 1) can be told: the "
+                       "lowest run, 0.750 mm at z = 93.000, lies below slot 1's window (95.000 to "
+                       "105.000 mm), in no slot\n"),
+    ("double_in_carrier", 5, "check-failed: check scan failed: slot 3 read 3 (double) (code "
+                             "10301)\n"),
+])
+def test_references_that_are_not_references_fail_with_their_status(tmp_path, name, status, words):
+    """Issue 24, item 2: each of these calibrated with exit 0 (or named a slot 0)."""
+    out = tmp_path / "recipe.txt"
+    done = run("calibrate", CASES / f"{name}.toml", "--out", out)
+    assert (done.returncode, done.stdout) == (status, "")
+    assert done.stderr.startswith(f"waferscan: calibration failed: {words}")
+    assert "Traceback" not in done.stderr and not out.exists()

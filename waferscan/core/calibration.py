@@ -12,9 +12,15 @@ scan over the whole carrier measures where they really are:
   or above, so later scans latch the references where the calibration did;
 - thickness correction = the references' mean measured diff / the nominal thickness.
 
-Then a check scan with the new recipe must read both references present. Each failure has its
-own kind (``CalibrationError.kind``) and words: no wafer in the bottom slot, none in the top
-slot, the check scan failed (which slots read what).
+A reference is one wafer of nominal thickness: the lowest run must lie in the taught slot 1's
+window, alone there, with its diff within the recipe's thickness window (after its correction);
+the highest run likewise in slot n's. Anything else is refused before a recipe is computed
+from it (a double taken as a reference makes a correction of 2, which then reads doubles as
+present). Then a check scan with the new recipe must read every slot holding a wafer present
+(the references and any other wafer: a loaded slot read thin, double, cross-slotted, off its
+seat or protruding fails the check, as does an unscanned slot or a run in no slot). Each
+failure has its own kind (``CalibrationError.kind``) and words: no wafer in the bottom slot,
+none in the top slot, the check scan failed (which slots read what).
 
 The seats measured are latched edges: they carry the sensor's latch lag and the step grid, as
 every later scan with the same settings does, so the recipe matches what those scans see. The
@@ -28,7 +34,7 @@ import math
 from dataclasses import dataclass, replace
 
 from .errors import InputError, WaferScanError
-from .mapping import PRESENT, STATE_NAMES, UNSCANNED
+from .mapping import EMPTY, LIMIT_SLACK, PRESENT, STATE_NAMES, UNSCANNED
 from .model import FAST
 from .recipe import RECIPE_KEYS, resolved_values
 
@@ -113,8 +119,10 @@ def _on_grid(start, end, step):
     return start + steps * step
 
 
-def _nearest_taught_slot(carrier, z):
-    return int(math.floor((z - carrier.first_slot_z) / carrier.pitch + 0.5)) + 1
+def _nearest_taught_slot(taught, z):
+    """The taught slot (a Carrier's or a SlotPlan's) whose seat is nearest z: 0 or n + 1 and
+    beyond for a z outside the outer windows."""
+    return int(math.floor((z - taught.first_slot_z) / taught.pitch + 0.5)) + 1
 
 
 def _where(run):
@@ -123,8 +131,12 @@ def _where(run):
 
 def references_of(layout, runs):
     """The bottom and top reference runs among a calibration scan's ``runs`` (SensorRuns), or a
-    CalibrationError: the lowest run must be the taught slot 1's and one wafer long (not longer
-    than the recipe's double limit), the highest slot n's and the same."""
+    CalibrationError naming what the scan saw instead. A reference is one wafer of nominal
+    thickness: the lowest run must be the taught slot 1's (its bottom within slot 1's window),
+    alone there, and its diff (after the recipe's correction) within the recipe's thickness
+    window; the highest run likewise slot n's. Their seats are not judged against the taught
+    ones (that is what a calibration corrects); the check scan judges them and every other
+    loaded slot with the new recipe."""
     carrier = layout.scanned_carrier
     plan = _plan(layout)
     n = carrier.slot_count
@@ -133,27 +145,56 @@ def references_of(layout, runs):
         raise CalibrationError(NO_BOTTOM_WAFER, "no wafer in the bottom slot (slot 1): the "
                                                 "calibration scan saw no wafer at all")
     low, high = ordered[0], ordered[-1]
-    slot = _nearest_taught_slot(carrier, low.bottom)
-    if slot != 1:
-        raise CalibrationError(NO_BOTTOM_WAFER, f"no wafer in the bottom slot (slot 1): the "
-                                                f"lowest run, {_where(low)}, is nearest slot "
-                                                f"{slot}'s seat")
-    if plan.corrected(low.diff) > plan.double_limit():
-        raise CalibrationError(NO_BOTTOM_WAFER, f"no single wafer in the bottom slot (slot 1): "
-                                                f"its run, {_where(low)}, is longer than the "
-                                                f"double limit {plan.double_limit():g} mm")
+    step = layout.scan.z_step
+    _reference(plan, ordered, low, 1, "bottom", "lowest", NO_BOTTOM_WAFER, step)
     if n == 1:
         return low, low
-    slot = _nearest_taught_slot(carrier, high.bottom)
-    if high is low or slot != n:
+    if high is low:
+        slot = _nearest_taught_slot(carrier, high.bottom)
         raise CalibrationError(NO_TOP_WAFER, f"no wafer in the top slot (slot {n}): the highest "
                                              f"run, {_where(high)}, is nearest slot {slot}'s "
                                              f"seat")
-    if plan.corrected(high.diff) > plan.double_limit():
-        raise CalibrationError(NO_TOP_WAFER, f"no single wafer in the top slot (slot {n}): its "
-                                             f"run, {_where(high)}, is longer than the double "
-                                             f"limit {plan.double_limit():g} mm")
+    _reference(plan, ordered, high, n, "top", "highest", NO_TOP_WAFER, step)
     return low, high
+
+
+def _reference(plan, ordered, run, slot, side, extreme, kind, step):
+    """Raise CalibrationError(kind) unless ``run`` (the lowest or highest of ``ordered``) is one
+    wafer of nominal thickness in the taught ``slot`` (InputError when a ``step`` coarser than
+    the wafer read it as one position)."""
+    n = plan.slot_count
+    nearest = _nearest_taught_slot(plan, run.bottom)
+    if nearest < 1 or nearest > n:
+        window = plan.window(1 if nearest < 1 else n)
+        where = "below slot 1's" if nearest < 1 else f"above slot {n}'s"
+        raise CalibrationError(kind, f"no wafer in the {side} slot (slot {slot}) can be told: "
+                                     f"the {extreme} run, {_where(run)}, lies {where} window "
+                                     f"({window[0]:.3f} to {window[1]:.3f} mm), in no slot")
+    if nearest != slot:
+        raise CalibrationError(kind, f"no wafer in the {side} slot (slot {slot}): the {extreme} "
+                                     f"run, {_where(run)}, is nearest slot {nearest}'s seat")
+    inside = [r for r in ordered if _nearest_taught_slot(plan, r.bottom) == slot]
+    if len(inside) > 1:
+        raise CalibrationError(kind, f"no single wafer in the {side} slot (slot {slot}): "
+                                     f"{len(inside)} runs in its window, "
+                                     f"{', '.join(_where(r) for r in inside)}")
+    if run.diff == 0.0 and step > 0.0:
+        raise InputError("z_step", None, f"the {side} reference reads 0 mm thick: z_step "
+                                         f"{step:g} is too coarse to measure it")
+    eps = LIMIT_SLACK
+    diff = plan.corrected(run.diff)
+    shown = "" if diff == run.diff else f" ({diff:.3f} mm corrected)"
+    low, high = plan.thickness_window()
+    if diff > plan.double_limit() + eps:
+        why = f"is longer than the double limit {plan.double_limit():g} mm"
+    elif diff > high + eps:
+        why = f"is longer than thickness_max {high:g} mm (double or thick)"
+    elif diff < low - eps:
+        why = f"is shorter than thickness_min {low:g} mm (thin)"
+    else:
+        return
+    raise CalibrationError(kind, f"no single wafer in the {side} slot (slot {slot}): its run, "
+                                 f"{_where(run)}{shown}, {why}")
 
 
 def recalibrated(layout, low, high, grid_start=None):
@@ -188,15 +229,22 @@ def recalibrated(layout, low, high, grid_start=None):
 
 
 def check_problems(result):
-    """What a check scan read wrong: the bottom and top slots must read present and no slot
-    may be unscanned. A list of sentences (empty: the check passed)."""
+    """What a check scan read wrong: every slot holding a run must read present (a loaded slot
+    read thin, double, cross-slotted, off its seat or protruding is a recipe that does not fit,
+    or a carrier that cannot check one), the bottom and top slots must hold their references,
+    every run must lie in a slot, and no slot may be unscanned. A list of sentences (empty: the
+    check passed)."""
     n = result.plan.slot_count
-    states = {s.slot: s.state for s in result.slot_map.slots}
-    wrong = [f"slot {slot} read {states[slot]} ({STATE_NAMES[states[slot]]})"
-             for slot in sorted({1, n}) if states[slot] != PRESENT]
-    unscanned = [s for s, state in states.items() if state == UNSCANNED]
+    slots = result.slot_map.slots
+    wrong = [f"slot {s.slot} read {s.state} ({STATE_NAMES[s.state]})" for s in slots
+             if s.state not in (PRESENT, UNSCANNED)
+             and (s.state != EMPTY or s.slot in (1, n))]
+    unscanned = [s.slot for s in slots if s.state == UNSCANNED]
     if unscanned:
         wrong.append(f"slots {', '.join(map(str, unscanned))} unscanned")
+    held = {i for s in slots for i in s.runs}
+    wrong += [f"the run {_where(run)} lies in no slot" for i, run in enumerate(result.runs)
+              if i not in held]
     return wrong
 
 

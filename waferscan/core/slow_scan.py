@@ -28,8 +28,9 @@ blocked interval narrower than the grid step can be missed there (documented, RE
 What the MCS judges from them: a front nearer than a seated wafer's by more than the protrusion
 limit is a protruding wafer (6, beside the load port's check: the jab adds evidence, it never
 clears a wafer the load port sees sticking out, which a jab at seat + t/2 passes over when the
-wafer sits low or high in its seat window); a sweep whose centre is turned from a seated wafer's by more than the position tolerance,
-as a sideways shift at the wafer's centre, is a position error (5), with the reason as a warning.
+wafer sits low or high in its seat window); a sweep whose centre is turned from a seated
+wafer's by more than the position tolerance, as a sideways shift at the wafer's centre, is a
+position error (5), with the reason as a warning.
 """
 
 from __future__ import annotations
