@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from .mapping import STATE_NAMES, UNSCANNED
-from .mcs import used_parameters
+from .mcs import reported_parameters
 
 # The paper's Table 1: slot -> (wafer #, IN, OUT, diff) in mm; slots not listed were empty.
 PAPER_TABLE_1 = {
@@ -81,7 +81,7 @@ def _result_dict(result):
         "wafers": [{"name": w.name, "in": w.z_in, "out": w.z_out, "diff": w.diff}
                    for w in result.wafers],
         "protrusions": [{"name": name, "mm": amount} for name, amount in result.protrusions],
-        "params": used_parameters(result.layout),
+        "params": reported_parameters(result),  # as asked; ``<key>_used`` where it differs
         "warnings": list(result.warnings),
         "edges": scan_edges(result),  # SPEC §10: every ON/OFF edge in the order latched
     }

@@ -78,6 +78,10 @@ class ScanResult:
     # SPEC §13, a slow scan with a jab or a sweep: each scanned pocket's PocketProbe
     # (core/slow_scan.py), in slot order; empty otherwise.
     pockets: tuple = ()
+    # The ScanParameters as asked, when the scan ran with others (``layout.scan``): latching in
+    # motion has continuous edges, so it scans with z_step 0 whatever z_step asked (SPEC §10).
+    # None: the scan used what was asked.
+    asked_scan: object = None
 
     @property
     def durations(self):
