@@ -47,7 +47,7 @@ def test_calibrate_prints_and_writes_a_recipe_that_scan_accepts_as_is(tmp_path):
     done = run("calibrate", drifted, "--params", taught, "--out", recipe)
     assert done.returncode == 0, done.stderr
     assert f"check scan code {LOAD}" in done.stdout
-    assert "first_slot_z                293.9400        294.2400" in done.stdout
+    assert "first_slot_z                 293.940         294.240" in done.stdout
     values = parse_parameters(recipe.read_text(), str(recipe)).values
     assert values["first_slot_z"] == pytest.approx(294.24, abs=0.05)
     assert values["slot_pitch"] == pytest.approx(10.02, abs=0.05 / 24)
@@ -130,6 +130,11 @@ def test_the_mcs_link_calibrates_on_cal_and_lists_the_recipe(tmp_path):
         assert answer[key], key
     assert (answer["thickness_min"], answer["double_threshold"], answer["rules"]) == \
         ("0.35", "1.75", "waferscan")
+    # issue 24, item 6: at the encoder's 1 µm, without float noise (t + Δt is
+    # 1.0499999999999998 in binary; the pitch measured 240.5 / 24 = 10.0208333…)
+    assert (answer["thickness_max"], answer["slot_pitch"], answer["first_slot_z"],
+            answer["start_z"], answer["final_z"], answer["thickness_correction"]) == \
+        ("1.05", "10.021", "294.24", "284.19", "544.79", "0.964286")
     # the table is the check scan's, slot by slot
     table = (folder / "results.txt").read_text().split("\n\n")[1].splitlines()
     assert [row.split("\t")[-1] for row in table[1:]] == \
@@ -166,6 +171,9 @@ def test_json_gives_both_recipes_and_the_check_scan_or_the_failure(tmp_path):
     assert data["recipe"]["first_slot_z"]["calibrated"] == pytest.approx(294.24, abs=0.05)
     assert data["recipe"]["rules"] == {"current": "waferscan", "calibrated": "waferscan"}
     assert data["check"]["params"]["slot_pitch"] == data["recipe"]["slot_pitch"]["calibrated"]
+    # issue 24, item 6: the recipe at 1 µm, the measurement at full precision beside it
+    assert data["recipe"]["slot_pitch"]["calibrated"] == 10.021
+    assert data["recipe"]["slot_pitch"]["measured"] == pytest.approx(240.5 / 24, abs=1e-12)
     taught.write_text(TAUGHT + "thickness_min = 0.64\nthickness_max = 0.71\n")
     done = run("calibrate", drifted, "--params", taught, "--json")
     assert done.returncode == 5

@@ -93,7 +93,7 @@ def test_the_rows_set_current_beside_calibrated():
     assert rows["thickness_min"] == (0.35, 0.35) and rows["rules"] == ("waferscan", "waferscan")
     text = format_calibration(calibration)
     assert f"check scan code {LOAD}" in text
-    assert "first_slot_z                293.9400        294.2400" in text
+    assert "first_slot_z                 293.940         294.240" in text
 
 
 @pytest.mark.parametrize("load, kind, words", [
@@ -159,8 +159,7 @@ def test_the_readme_example_misreads_taught_and_maps_calibrated():
     assert scan_layout(layout).code == "1100100005000050000500055"
     calibration = calibrate(layout, scan_layout)
     assert calibration.check.code == LOAD
-    assert (calibration.first_slot_z, round(calibration.pitch, 4)) == \
-        (pytest.approx(294.24), 10.0208)
+    assert (calibration.first_slot_z, calibration.pitch) == (pytest.approx(294.24), 10.021)
     assert calibration.thickness_correction == pytest.approx(0.675 / 0.7)
 
 
@@ -247,3 +246,42 @@ def test_good_references_still_calibrate():
     assert (calibration.first_slot_z, calibration.pitch) == (pytest.approx(100.0),
                                                              pytest.approx(10.0))
     assert calibration.check.code == "10101"
+
+
+def test_the_recipe_is_kept_to_the_encoders_micrometre_and_json_keeps_the_measurement():
+    """Issue 24, item 6: the README's drifted carrier. The references' bottoms latch at 294.24
+    and 534.74 on the 0.05 mm grid (534.72 rises to the next step), so the measured pitch is
+    240.5 / 24 = 10.0208333… and the correction (0.70 + 0.65) / 2 / 0.7 = 0.9642857…. The
+    recipe the check scan runs with, --out writes and a person reads is in micrometres
+    (correction to 1e-6): 10.021 and 0.964286, with no float noise (1.0499999999999998 for
+    t + Δt); JSON keeps the measurement at full precision beside it."""
+    from waferscan.core.mcs import format_parameters
+    from waferscan.core.report import calibration_dict
+    from waferscan.core.scenario import read_scenario
+
+    layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
+    calibration = calibrate(layout, scan_layout)
+    pitch = (534.74 - 294.24) / 24
+    assert (calibration.first_slot_z, calibration.pitch) == (294.24, 10.021)
+    assert calibration.thickness_correction == 0.964286
+    assert calibration.check.code == LOAD
+    assert calibration.after.scanned_carrier.pitch == 10.021  # what the check scan judged by
+    assert calibration.check.plan.pitch == 10.021
+    scan = calibration.after.scan
+    # one pitch below and above the outer seats, on the calibration's grid (283.94 + k 0.05)
+    assert (scan.start_z, scan.final_z) == (284.19, 544.79)
+    text = format_parameters(calibration.after).splitlines()
+    for line in ("first_slot_z = 294.24", "slot_pitch = 10.021", "start_z = 284.19",
+                 "final_z = 544.79", "thickness_correction = 0.964286"):
+        assert line in text, line
+    printed = format_calibration(calibration).splitlines()
+    assert "slot_pitch                    10.000          10.021" in printed
+    assert "thickness_max                  1.050           1.050" in printed
+    assert "thickness_correction        1.000000        0.964286" in printed
+    data = calibration_dict(calibration)["recipe"]
+    assert data["slot_pitch"] == {"current": 10.0, "calibrated": 10.021,
+                                  "measured": pytest.approx(pitch, abs=1e-12)}
+    assert data["slot_pitch"]["measured"] != 10.021
+    assert data["first_slot_z"]["measured"] == pytest.approx(294.24, abs=1e-12)
+    assert data["thickness_correction"]["measured"] == pytest.approx(1.35 / 2 / 0.7, abs=1e-12)
+    assert "measured" not in data["thickness_max"] and "measured" not in data["start_z"]

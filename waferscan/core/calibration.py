@@ -45,6 +45,13 @@ CHECK_FAILED = "check-failed"
 # bad input, 1 an internal fault.
 EXIT_CODES = {NO_BOTTOM_WAFER: 3, NO_TOP_WAFER: 4, CHECK_FAILED: 5}
 
+# A recipe as a controller holds it (DOMAIN-NOTES: recipes in µm): lengths at the encoder's
+# resolution, 1 µm; the thickness correction, a ratio of two such lengths (about 0.7 mm), to
+# 1e-6, below a nanometre on a wafer's reading. What the check scan judges by, what --out and
+# CAL write and a person reads; JSON keeps the measurement at full precision beside it.
+LENGTH_DECIMALS = 3
+CORRECTION_DECIMALS = 6
+
 # The keys a calibration sets or reports, in the order they are shown: the taught slots, the
 # scan range, then the recipe's windows (resolved) and the correction.
 REPORTED_KEYS = ("first_slot_z", "slot_pitch", "start_z", "final_z") + RECIPE_KEYS
@@ -72,12 +79,15 @@ class Calibration:
 
     before: object          # Layout with the recipe it started from
     after: object           # Layout with the new recipe (slots, scan range, correction)
-    first_slot_z: float     # mm, measured slot-1 seat
-    pitch: float            # mm, measured
-    thickness_correction: float
+    first_slot_z: float     # mm, measured slot-1 seat, at 1 µm (the recipe's)
+    pitch: float            # mm, measured, at 1 µm (the recipe's)
+    thickness_correction: float  # measured, to CORRECTION_DECIMALS (the recipe's)
     references: tuple       # the bottom and top references' SensorRuns
     scan: object            # the calibration scan's ScanResult
     check: object           # the check scan's ScanResult
+    # first_slot_z, slot_pitch and thickness_correction as measured, at full precision (the
+    # recipe holds them at 1 µm and CORRECTION_DECIMALS): for JSON
+    measured: dict = None
 
     def values(self, layout):
         """The REPORTED_KEYS of a layout's recipe (windows resolved), for showing side by side."""
@@ -197,35 +207,60 @@ def _reference(plan, ordered, run, slot, side, extreme, kind, step):
                                  f"{_where(run)}{shown}, {why}")
 
 
+def micrometres(value):
+    """A length (mm) at the encoder's resolution, 1 µm: what a recipe holds."""
+    return round(value, LENGTH_DECIMALS)
+
+
+def _grid_micrometres(value, start, step):
+    """A scan position of the grid start + k·step at 1 µm, where that is still the grid's
+    position (a whole-µm start and step: always); else the position itself."""
+    rounded = micrometres(value)
+    if step <= 0.0:
+        return rounded
+    k = round((value - start) / step)
+    return rounded if abs(rounded - (start + k * step)) <= 1e-9 * max(1.0, abs(value)) else value
+
+
 def recalibrated(layout, low, high, grid_start=None):
     """The layout with the recipe the references give: the scanned carrier's taught slot-1 seat
     and pitch, the scan range and the thickness correction. ``grid_start``: the calibration
     scan's start_z; the new range starts on its step grid, so that the check scan and every
-    later one latch the references where the calibration did. Returns (layout, seat, pitch,
-    correction)."""
+    later one latch the references where the calibration did. The recipe is kept as a
+    controller holds it: lengths at the encoder's 1 µm, the correction to CORRECTION_DECIMALS
+    (the check scan judges by exactly what is written). Returns (layout, seat, pitch,
+    correction, measured): ``measured`` the seat, pitch and correction at full precision."""
     carrier = layout.scanned_carrier
     n = carrier.slot_count
-    seat = low.bottom
-    pitch = (high.bottom - low.bottom) / (n - 1) if n > 1 else carrier.pitch
+    measured_seat = low.bottom
+    measured_pitch = (high.bottom - low.bottom) / (n - 1) if n > 1 else carrier.pitch
     mean = 0.5 * (low.diff + high.diff)
-    if not pitch > carrier.wafer_thickness:
-        raise CalibrationError(NO_TOP_WAFER, f"the references are {pitch:g} mm a slot apart, no "
-                                             f"more than a wafer's thickness: not slots 1 and {n}")
+    if not measured_pitch > carrier.wafer_thickness:
+        raise CalibrationError(NO_TOP_WAFER, f"the references are {measured_pitch:g} mm a slot "
+                                             f"apart, no more than a wafer's thickness: not "
+                                             f"slots 1 and {n}")
     if not mean > 0.0:
         raise InputError("z_step", None, f"the references read {mean:g} mm thick: z_step "
                                          f"{layout.scan.z_step:g} is too coarse to measure them")
-    correction = mean / carrier.wafer_thickness
+    measured_correction = mean / carrier.wafer_thickness
+    seat = micrometres(measured_seat)
+    pitch = micrometres(measured_pitch) if n > 1 else carrier.pitch
+    correction = round(measured_correction, CORRECTION_DECIMALS)
     taught = replace(carrier, first_slot_z=seat, pitch=pitch)
     start = seat - pitch
     step = layout.scan.z_step
+    origin = start if grid_start is None else grid_start
     if grid_start is not None and step > 0.0:
         start = grid_start + math.floor((start - grid_start) / step + 1e-9) * step
-    end = _on_grid(start, seat + n * pitch, layout.scan.z_step)
+    end = _on_grid(start, seat + n * pitch, step)
+    start, end = (_grid_micrometres(start, origin, step), _grid_micrometres(end, origin, step))
     after = replace(layout, carriers=tuple(taught if c.name == carrier.name else c
                                            for c in layout.carriers),
                     mapping=replace(layout.mapping, thickness_correction=correction))
     after = after.with_scan(start_z=start, final_z=end)
-    return after, seat, pitch, correction
+    measured = {"first_slot_z": measured_seat, "slot_pitch": measured_pitch,
+                "thickness_correction": measured_correction}
+    return after, seat, pitch, correction, measured
 
 
 def check_problems(result):
@@ -254,13 +289,34 @@ def calibrate(layout, scan):
     raises CalibrationError."""
     first = scan(calibration_layout(layout))
     low, high = references_of(layout, first.runs)
-    after, seat, pitch, correction = recalibrated(layout, low, high, first.layout.scan.start_z)
+    after, seat, pitch, correction, measured = recalibrated(layout, low, high,
+                                                            first.layout.scan.start_z)
     check = scan(after)
     wrong = check_problems(check)
     if wrong:
         raise CalibrationError(CHECK_FAILED, f"check scan failed: {'; '.join(wrong)} "
                                              f"(code {check.code})", check)
-    return Calibration(layout, after, seat, pitch, correction, (low, high), first, check)
+    return Calibration(layout, after, seat, pitch, correction, (low, high), first, check,
+                       measured)
+
+
+def shown_value(key, value):
+    """A recipe value as a person or an MCS reads it: lengths (mm) to the micrometre, the
+    correction to CORRECTION_DECIMALS, words as they are (no float noise: t + Δt = 0.7 + 0.35 is
+    1.0499999999999998 in binary)."""
+    if not isinstance(value, float):
+        return str(value)
+    if key == "thickness_correction":
+        return f"{value:.{CORRECTION_DECIMALS}f}"
+    return f"{value:.{LENGTH_DECIMALS}f}"
+
+
+def recipe_values(values):
+    """``Calibration.values`` as a file lists them (CAL's results.txt header): floats rounded
+    as ``shown_value`` shows them."""
+    return {key: (round(value, CORRECTION_DECIMALS if key == "thickness_correction"
+                        else LENGTH_DECIMALS) if isinstance(value, float) else value)
+            for key, value in values.items()}
 
 
 def format_calibration(calibration):
@@ -270,11 +326,8 @@ def format_calibration(calibration):
     width = max(len(key) for key, _, _ in rows)
     lines = [f"{'key':<{width}}  {'current':>14}  {'calibrated':>14}"]
     for key, old, new in rows:
-        lines.append(f"{key:<{width}}  {_shown(old):>14}  {_shown(new):>14}")
+        lines.append(f"{key:<{width}}  {shown_value(key, old):>14}  {shown_value(key, new):>14}")
     check = calibration.check
     lines += ["", f"check scan code {check.code}", f"check scan E87  {check.e87}"]
     return "\n".join(lines)
 
-
-def _shown(value):
-    return f"{value:.4f}" if isinstance(value, float) else str(value)

@@ -180,9 +180,13 @@ def format_crosscheck(check):
 
 def calibration_dict(calibration):
     """``waferscan calibrate --json`` (SPEC §11): the recipe keys, each with its current and its
-    calibrated value, and the check scan as ``scan --json`` gives a scan."""
+    calibrated value (the recipe as written: lengths at 1 µm), the measured ones (first_slot_z,
+    slot_pitch, thickness_correction) also as ``measured`` at full precision, and the check scan
+    as ``scan --json`` gives a scan."""
+    measured = calibration.measured or {}
     return {"status": "ok",
-            "recipe": {key: {"current": old, "calibrated": new}
+            "recipe": {key: {"current": old, "calibrated": new,
+                             **({"measured": measured[key]} if key in measured else {})}
                        for key, old, new in calibration.rows()},
             "check": result_dict(calibration.check)}
 
