@@ -47,7 +47,7 @@ def test_calibrate_prints_and_writes_a_recipe_that_scan_accepts_as_is(tmp_path):
     done = run("calibrate", drifted, "--params", taught, "--out", recipe)
     assert done.returncode == 0, done.stderr
     assert f"check scan code {LOAD}" in done.stdout
-    assert "first_slot_z                293.9400        294.2400" in done.stdout
+    assert "first_slot_z                 293.940         294.240" in done.stdout
     values = parse_parameters(recipe.read_text(), str(recipe)).values
     assert values["first_slot_z"] == pytest.approx(294.24, abs=0.05)
     assert values["slot_pitch"] == pytest.approx(10.02, abs=0.05 / 24)
@@ -61,8 +61,8 @@ def test_calibrate_prints_and_writes_a_recipe_that_scan_accepts_as_is(tmp_path):
 @pytest.mark.parametrize("load, recipe, status, words", [
     ("0100100001000010000100011", TAUGHT, 3, "no-bottom-wafer: no wafer in the bottom slot"),
     ("1100100001000010000100010", TAUGHT, 4, "no-top-wafer: no wafer in the top slot"),
-    (LOAD, TAUGHT + "thickness_min = 0.69\nthickness_max = 0.71\n", 5,
-     "check-failed: check scan failed: slot 1 read 3 (double); slot 25 read 4 (thin)"),
+    (LOAD, TAUGHT + "thickness_min = 0.64\nthickness_max = 0.71\n", 5,
+     "check-failed: check scan failed: slot 1 read 3 (double) (code 3"),
 ])
 def test_each_failure_has_its_exit_status_and_leaves_the_recipe_file_alone(tmp_path, load,
                                                                           recipe, status, words):
@@ -130,6 +130,11 @@ def test_the_mcs_link_calibrates_on_cal_and_lists_the_recipe(tmp_path):
         assert answer[key], key
     assert (answer["thickness_min"], answer["double_threshold"], answer["rules"]) == \
         ("0.35", "1.75", "waferscan")
+    # issue 24, item 6: at the encoder's 1 µm, without float noise (t + Δt is
+    # 1.0499999999999998 in binary; the pitch measured 240.5 / 24 = 10.0208333…)
+    assert (answer["thickness_max"], answer["slot_pitch"], answer["first_slot_z"],
+            answer["start_z"], answer["final_z"], answer["thickness_correction"]) == \
+        ("1.05", "10.021", "294.24", "284.19", "544.79", "0.964286")
     # the table is the check scan's, slot by slot
     table = (folder / "results.txt").read_text().split("\n\n")[1].splitlines()
     assert [row.split("\t")[-1] for row in table[1:]] == \
@@ -166,10 +171,39 @@ def test_json_gives_both_recipes_and_the_check_scan_or_the_failure(tmp_path):
     assert data["recipe"]["first_slot_z"]["calibrated"] == pytest.approx(294.24, abs=0.05)
     assert data["recipe"]["rules"] == {"current": "waferscan", "calibrated": "waferscan"}
     assert data["check"]["params"]["slot_pitch"] == data["recipe"]["slot_pitch"]["calibrated"]
-    taught.write_text(TAUGHT + "thickness_min = 0.69\nthickness_max = 0.71\n")
+    # issue 24, item 6: the recipe at 1 µm, the measurement at full precision beside it
+    assert data["recipe"]["slot_pitch"]["calibrated"] == 10.021
+    assert data["recipe"]["slot_pitch"]["measured"] == pytest.approx(240.5 / 24, abs=1e-12)
+    taught.write_text(TAUGHT + "thickness_min = 0.64\nthickness_max = 0.71\n")
     done = run("calibrate", drifted, "--params", taught, "--json")
     assert done.returncode == 5
     failure = json.loads(done.stdout)
     assert (failure["status"], failure["failure"]) == ("error", "check-failed")
     assert failure["message"].startswith("check scan failed: slot 1 read 3 (double)")
-    assert failure["code"][0] == "3" and failure["code"][-1] == "4"
+    assert failure["code"][0] == "3" and failure["code"][-1] == "1"
+
+
+CASES = ROOT / "tests" / "data" / "calibration"
+
+
+@pytest.mark.parametrize("name, status, words", [
+    ("double_reference", 3, "no-bottom-wafer: no single wafer in the bottom slot (slot 1): its "
+                            "run, 1.550 mm at z = 100.000, is longer than thickness_max 1.1625 mm "
+                            "(double or thick)\n"),
+    ("thin_references", 3, "no-bottom-wafer: no single wafer in the bottom slot (slot 1): its "
+                           "run, "),
+    ("high_bottom_reference", 5, "check-failed: check scan failed: slot 2 read 5 (position error) "
+                                 "(code 15001)\n"),
+    ("stray_below", 3, "no-bottom-wafer: no wafer in the bottom slot (slot 1) can be told: the "
+                       "lowest run, 0.750 mm at z = 93.000, lies below slot 1's window (95.000 to "
+                       "105.000 mm), in no slot\n"),
+    ("double_in_carrier", 5, "check-failed: check scan failed: slot 3 read 3 (double) (code "
+                             "10301)\n"),
+])
+def test_references_that_are_not_references_fail_with_their_status(tmp_path, name, status, words):
+    """Issue 24, item 2: each of these calibrated with exit 0 (or named a slot 0)."""
+    out = tmp_path / "recipe.txt"
+    done = run("calibrate", CASES / f"{name}.toml", "--out", out)
+    assert (done.returncode, done.stdout) == (status, "")
+    assert done.stderr.startswith(f"waferscan: calibration failed: {words}")
+    assert "Traceback" not in done.stderr and not out.exists()

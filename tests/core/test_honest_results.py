@@ -86,6 +86,62 @@ def test_a_protruding_cross_slotted_wafer_is_6_in_both_of_its_slots():
     assert result.code == "0660000000"
 
 
+def _frontmost_by_sampling(wafer, front, points=2_000_000):
+    """How far the solid reaches along ``front`` (a horizontal unit vector), from its two rim
+    circles sampled densely (a disc's support point lies on a rim): independent of the code's
+    closed form, to about R·(2π/points)²/2 = 1e-9 mm."""
+    import numpy as np
+
+    n = np.array(wafer.normal)
+    u = np.cross(n, [1.0, 0.0, 0.0])
+    u = u / np.linalg.norm(u)
+    v = np.cross(n, u)
+    phi = np.linspace(0.0, 2.0 * np.pi, points, endpoint=False)
+    f = np.array([front[0], front[1], 0.0])
+    c = np.array(wafer.center)
+    rim = wafer.radius * (np.cos(phi) * (u @ f) + np.sin(phi) * (v @ f))
+    return float(c @ f + rim.max() + max(0.0, wafer.thickness * (n @ f)))
+
+
+def test_protrusion_is_the_solids_frontmost_point_not_the_mid_planes():
+    """Issue 24, item 6: a wafer tilted 0.5 deg with its front edge up reaches (t/2)·sin(0.5°)
+    = 0.00338 mm further out at its top rim than at its mid-plane. Placed so that its frontmost
+    point is 1.00238 mm out (limit 1 mm), it protrudes: the mid-plane's 0.99900 read 5 (the
+    beam meets it 1.16 mm above the seat, 132.4 mm in front of its centre)."""
+    import math
+
+    t, theta = 0.775, math.radians(0.5)
+    out = 1.00238
+    # The closed form by hand: the front rim's bottom point is R·cos θ ahead of the centre, its
+    # top point t·sin θ further; the centre stands d ahead of the carrier's (front is -Y).
+    d = out - 150.0 * (math.cos(theta) - 1.0) - t * math.sin(theta)
+    tilted = f"""
+[[wafer]]
+name = "T"
+center = [0.0, {400.0 - d!r}, {seat(4)!r}]
+normal = [0.0, {-math.sin(theta)!r}, {math.cos(theta)!r}]
+diameter = 300.0
+thickness = {t!r}
+"""
+    layout = scenario(load="1110111111", thickness=t, extra=tilted)
+    wafer = next(w for w in layout.wafers if w.name == "T")
+    carrier = layout.carriers[0]
+    opening = carrier.center[0] * carrier.front[0] + carrier.center[1] * carrier.front[1] + 150.0
+    assert _frontmost_by_sampling(wafer, carrier.front) - opening == pytest.approx(out, abs=1e-8)
+    result = scan_layout(layout)
+    assert dict(result.protrusions)["T"] == pytest.approx(out, abs=1e-9)
+    assert result.code == "1116111111"
+    # Tilted the other way (front edge down), the bottom rim is the frontmost: the same
+    # protrusion for the same placement of that rim.
+    down = layout.wafers[-1]
+    assert down.name == "T"
+    flipped = replace(down, normal=(0.0, math.sin(theta), math.cos(theta)),
+                      center=(0.0, 400.0 - (out - 150.0 * (math.cos(theta) - 1.0)), seat(4)))
+    result = scan_layout(replace(layout, wafers=layout.wafers[:-1] + (flipped,)))
+    assert dict(result.protrusions)["T"] == pytest.approx(out, abs=1e-9)
+    assert _frontmost_by_sampling(flipped, carrier.front) - opening == pytest.approx(out, abs=1e-8)
+
+
 # --- 4. Warnings and the unscanned state -----------------------------------------------------
 
 def test_the_paper_like_scan_has_no_warnings():
@@ -245,3 +301,26 @@ def test_the_analytic_engine_scans_to_final_z_at_27_million_steps():
     hits = ENGINES["analytic"](layout)
     assert hits.count == 27_000_001
     assert scan_layout(layout).code == "1111111111"
+
+
+@pytest.mark.parametrize("tilt_deg, bow", [(0.5, 0.1), (-0.5, 0.1), (30.0, -0.3), (80.0, 40.0),
+                                           (89.0, 5.0), (-80.0, -40.0), (70.0, -40.0)])
+def test_front_reach_is_the_bowed_solids_frontmost_point(tilt_deg, bow):
+    """scan_result.front_reach against the bowed solid (SPEC §10) sampled over its bottom and
+    top surfaces and its rim: the vertex branch (bow·sin(tilt) > 0 beyond atan(R / 2 bow)) is
+    reached by the steep, strongly bowed cases."""
+    import math
+
+    import numpy as np
+
+    from waferscan.core.scan_result import front_reach
+
+    radius, t = 150.0, 0.775
+    along = math.sin(math.radians(tilt_deg))
+    across = math.cos(math.radians(tilt_deg))
+    # along the direction f: a point r u + (w(r) + s) n reaches r (u·f) + (w(r) + s) along,
+    # u·f at most sqrt(1 - along²) = across (u in the wafer's plane)
+    r = np.linspace(0.0, radius, 2_000_001)
+    w = bow * (1.0 - r * r / (radius * radius))
+    sampled = max(float(np.max(r * across + (w + s) * along)) for s in (0.0, t))
+    assert front_reach(radius, t, bow, along) == pytest.approx(sampled, abs=1e-8)

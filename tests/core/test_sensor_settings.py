@@ -135,3 +135,28 @@ def test_a_missed_wafer_is_said_in_the_warnings():
     missed = [w for w in result.warnings if "missed" in w]
     assert len(missed) == 8
     assert re.search(r"LP1_W01 near slot 1 blocked at most \d+\.\d% of the beam spot", missed[0])
+
+
+def test_results_txt_echoes_the_z_step_asked_and_says_the_one_used_under_latching():
+    """Issue 24, item 6: under encoder or sampled latching the edges are continuous (SPEC §10:
+    no z_step grid), and results.txt said z_step = 0.0 where parameters.txt said 0.05. The
+    header echoes what was asked (as parameters.txt has it) and, on a line of its own right
+    after it, what the scan used; JSON's params the same. A stepped scan lists z_step once."""
+    paper = read_scenario(PAPER_PATH)
+    for latch in ("encoder", "sampled"):
+        asked = apply_parameters(paper, parse_parameters(f"latch = {latch}\nscan_speed = 100\n"
+                                                         "sample_period = 0.001\n"))
+        assert format_parameters(asked).splitlines().count("z_step = 0.05") == 1
+        result = scan_layout(asked)
+        head = format_results(1, "SCF", result, timestamp="T").split("\n\n")[0].splitlines()
+        at = head.index("z_step = 0.05")
+        assert head[at + 1] == "z_step_used = 0.0"
+        assert "z_step = 0.0" not in head
+        params = result_dict(result)["params"]
+        assert (params["z_step"], params["z_step_used"]) == (0.05, 0.0)
+        assert list(params).index("z_step_used") == list(params).index("z_step") + 1
+    stepped = format_results(1, "SCF", scan_layout(paper), timestamp="T")
+    assert "z_step = 0.05" in stepped.splitlines() and "z_step_used" not in stepped
+    exact = scan_layout(paper.with_scan(z_step=0.0))
+    assert "z_step_used" not in format_results(1, "SCF", exact, timestamp="T")
+    assert "z_step_used" not in result_dict(exact)["params"]

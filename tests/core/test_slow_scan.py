@@ -229,3 +229,45 @@ def test_parameters_txt_sets_and_refuses_slow_settings():
     assert "jab = 6.25\nsweep = 30.0\nwrist_speed = 45.0\n" in format_parameters(layout)
     with pytest.raises(InputError, match=r"parameters.txt:2: sweep: must be at most 90"):
         apply_parameters(paper, parse_parameters("jab = 1\nsweep = 91\n"))
+
+
+def test_a_wafer_the_jab_passes_over_still_protrudes_by_the_load_port():
+    """Issue 24 item 1: the jab runs at seat + t/2 (300.35); a wafer 1.5 mm out and 0.45 mm
+    below its seat (299.55 to 300.25, inside the ±0.5 mm seat window) lies wholly below it, so
+    the jab meets nothing; the load port's protrusion check still sees its front edge 1.5 mm
+    out (SPEC §4: 6 however it is seated). The jab adds evidence, it never removes it."""
+    low = wafer(dy=-1.5, seat=SEAT - 0.45)
+    lay = layout([low], jab=20.0, sweep=0.0)
+    result = scan_layout(lay)
+    # By hand: the wafer's top 300.25 < the jab's height 300.35; the start pose's beam is at
+    # Y = 240, the wafer's front edge at 250 - 1.5 = 248.5, so the jab could reach it (20 mm).
+    assert SEAT - 0.45 + T < Z
+    assert result.pockets[0].front is None
+    assert [(name, round(mm, 9)) for name, mm in result.protrusions] == [("W", 1.5)]
+    # The stepped run (fork in, 20 mm advanced) is a seated, present wafer by thickness and
+    # position; the protrusion outranks it.
+    assert result.code == "6"
+    assert any("slot 1" in w and "1.500 mm" in w and "jab" in w for w in result.warnings)
+    # The same wafer at the jab's height: the jab meets it 1.5 mm early and agrees.
+    met = scan_layout(layout([wafer(dy=-1.5)], jab=20.0, sweep=0.0))
+    assert met.pockets[0].front == pytest.approx(10.0 - 1.5, abs=1e-9)
+    assert met.code == "6" and not any("jab" in w for w in met.warnings)
+
+
+def test_a_blind_jab_keeps_the_load_ports_protrusion():
+    """Issue 24 item 1, the paper's carrier with slot 8 loaded 6 (5 mm out): fast, slow without
+    a jab and slow with a 5 mm jab all read 6 in slot 8 (the jab starts inside the wafers, so
+    it is blind: it cannot clear a wafer the load port sees sticking out)."""
+    from waferscan.cli import paper_scenario
+    from waferscan.core.scenario import parse_scenario
+
+    text = paper_scenario().read_text().replace('load = "1101221001220001010000010"',
+                                                'load = "1101221601220001010000010"')
+    paper = parse_scenario(text, "paper8.toml", folder=paper_scenario().parent)
+    expected = "1101221601220001010000010"
+    for scan in (dict(mode="fast"), dict(mode="slow"), dict(mode="slow", jab=5.0)):
+        result = scan_layout(paper.with_scan(**scan))
+        assert result.code == expected, scan
+        # the load port's reading, the same in every mode: slot 8's wafer 5 mm out
+        out = [(name, mm) for name, mm in result.protrusions if mm > 1e-9]
+        assert [name for name, _ in out] == ["LP1_W06"] and out[0][1] == pytest.approx(5.0)

@@ -128,7 +128,7 @@ def _calibrated(doc, cache, parameters, engine, should_stop):
     """A CAL: calibrate the document's layout under parameters.txt's recipe; the answer is the
     check scan with the calibrated recipe's keys in its header (a failure raises
     CalibrationError, answered with its words)."""
-    from ..core.calibration import REPORTED_KEYS
+    from ..core.calibration import REPORTED_KEYS, recipe_values
     from .document_calibration import calibrate_document
 
     scene, layout = cache.get()
@@ -138,7 +138,7 @@ def _calibrated(doc, cache, parameters, engine, should_stop):
                                          progress=lambda done, total: should_stop())
     finally:
         cache.scanning = False
-    values = calibration.values(calibration.after)
+    values = recipe_values(calibration.values(calibration.after))  # at 1 µm, as written
     return Scanned(calibration.check, "calibrated from the reference wafers in slots 1 and "
                    f"{calibration.after.scanned_carrier.slot_count}",
                    {key: values[key] for key in REPORTED_KEYS})

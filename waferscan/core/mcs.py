@@ -190,6 +190,25 @@ def used_parameters(layout):
     return values
 
 
+def reported_parameters(result):
+    """The parameters a scan result lists (results.txt's header, JSON's ``params``): every key as
+    asked, as parameters.txt has it, and right after a key the scan ran with another value of,
+    ``<key>_used`` with that value (SPEC §10: latching in motion scans with z_step 0, its edges
+    continuous, whatever z_step asked)."""
+    used = used_parameters(result.layout)
+    asked = result.asked_scan
+    if asked is None:
+        return used
+    values = {}
+    for key, value in used.items():
+        if key in schema.SCAN_KEYS and getattr(asked, key) != value:
+            values[key] = getattr(asked, key)
+            values[f"{key}_used"] = value
+        else:
+            values[key] = value
+    return values
+
+
 def _text(value):
     return repr(float(value)) if isinstance(value, float) else str(value)
 
@@ -290,7 +309,7 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
                    ("duration_slow", f"{durations['slow']:.3f}")]
     if result is not None and not error:
         header.append(("engine", result.engine))
-        used = used_parameters(result.layout)
+        used = reported_parameters(result)
         header += [(k, _text(v)) for k, v in used.items()]
         header += [(k, _text(v)) for k, v in (recipe or {}).items() if k not in used]
     lines = [f"{k} = {v}".rstrip() for k, v in header]

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from .mapping import STATE_NAMES, UNSCANNED
-from .mcs import used_parameters
+from .mcs import reported_parameters
 
 # The paper's Table 1: slot -> (wafer #, IN, OUT, diff) in mm; slots not listed were empty.
 PAPER_TABLE_1 = {
@@ -81,7 +81,7 @@ def _result_dict(result):
         "wafers": [{"name": w.name, "in": w.z_in, "out": w.z_out, "diff": w.diff}
                    for w in result.wafers],
         "protrusions": [{"name": name, "mm": amount} for name, amount in result.protrusions],
-        "params": used_parameters(result.layout),
+        "params": reported_parameters(result),  # as asked; ``<key>_used`` where it differs
         "warnings": list(result.warnings),
         "edges": scan_edges(result),  # SPEC §10: every ON/OFF edge in the order latched
     }
@@ -180,9 +180,13 @@ def format_crosscheck(check):
 
 def calibration_dict(calibration):
     """``waferscan calibrate --json`` (SPEC §11): the recipe keys, each with its current and its
-    calibrated value, and the check scan as ``scan --json`` gives a scan."""
+    calibrated value (the recipe as written: lengths at 1 µm), the measured ones (first_slot_z,
+    slot_pitch, thickness_correction) also as ``measured`` at full precision, and the check scan
+    as ``scan --json`` gives a scan."""
+    measured = calibration.measured or {}
     return {"status": "ok",
-            "recipe": {key: {"current": old, "calibrated": new}
+            "recipe": {key: {"current": old, "calibrated": new,
+                             **({"measured": measured[key]} if key in measured else {})}
                        for key, old, new in calibration.rows()},
             "check": result_dict(calibration.check)}
 

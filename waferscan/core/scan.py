@@ -19,8 +19,8 @@ from .model import SLOW
 # named here too, where callers have always found them.
 from .scan_result import (ScanResult, SensorRun, WaferInterval, _carrier_wafers,  # noqa: F401
                           _exact_intervals, _run_wafers, _stepped_intervals, _window, latch,
-                          latcher, protruding_slots, protrusion, scan_warnings, scanned_range,
-                          slot_plan)
+                          latcher, protruding_slots, protrusion, protrusions_by_slot,
+                          scan_warnings, scanned_range, slot_plan)
 
 
 def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None):
@@ -65,8 +65,17 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
             layout, plan, [s for s in range(1, plan.slot_count + 1) if s not in unscanned],
             measure)
         jabbed, swept_off, probe_warnings = slow_scan.judge(layout, plan, pockets)
-        if scan.jab > 0.0:  # the robot's own sensor judges protrusion (§13)
-            flagged = jabbed
+        if scan.jab > 0.0:
+            # SPEC §13: the robot's own sensor measures protrusion as well as the load port's
+            # (§4: 6 however the wafer is seated): the jab adds evidence, never removes any. A
+            # wafer below or above the jab's height, or a jab that starts inside the wafers,
+            # misses what the load port sees: said, slot by slot.
+            missed = sorted(set(flagged) - set(jabbed))
+            if missed:
+                by_slot, _ = protrusions_by_slot(carrier, plan, layout.wafers)
+                probe_warnings += slow_scan.missed_protrusion_warnings(
+                    plan, [p for p in pockets if p.slot in missed], by_slot)
+            flagged = sorted(set(flagged) | set(jabbed))
     # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
     slot_map = map_slots(plan, [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
                                 for z_in, z_out in latched], flagged, unscanned)

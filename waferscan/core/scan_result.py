@@ -78,6 +78,10 @@ class ScanResult:
     # SPEC §13, a slow scan with a jab or a sweep: each scanned pocket's PocketProbe
     # (core/slow_scan.py), in slot order; empty otherwise.
     pockets: tuple = ()
+    # The ScanParameters as asked, when the scan ran with others (``layout.scan``): latching in
+    # motion has continuous edges, so it scans with z_step 0 whatever z_step asked (SPEC §10).
+    # None: the scan used what was asked.
+    asked_scan: object = None
 
     @property
     def durations(self):
@@ -199,15 +203,38 @@ def latcher(scan):
 
 
 def protrusion(carrier, wafer):
-    """How far (mm) the wafer reaches out of the carrier's opening beyond a seated wafer."""
+    """How far (mm) the wafer reaches out of the carrier's opening beyond a seated wafer: the
+    solid's frontmost point along the carrier's ``front``, less a seated wafer's (its centre on
+    the carrier's, D/2 out). A load port's protrusion sensor sees the solid, so a wafer tilted
+    towards the front reaches t·sin(tilt) further at its top rim than at its bottom one, and
+    (t/2)·sin(tilt) further than its mid-plane (issue 24)."""
     fx, fy = carrier.front
-    nx, ny, nz = wafer.normal
-    h = wafer.thickness / 2.0
-    mx, my = wafer.center[0] + h * nx, wafer.center[1] + h * ny  # wafer.mid_center's X, Y
-    along_front = nx * fx + ny * fy
-    reach = (mx - carrier.center[0]) * fx + (my - carrier.center[1]) * fy
-    reach += wafer.radius * math.sqrt(max(0.0, 1.0 - along_front * along_front))
+    nx, ny, _ = wafer.normal
+    along = nx * fx + ny * fy
+    reach = (wafer.center[0] - carrier.center[0]) * fx + (wafer.center[1] - carrier.center[1]) * fy
+    reach += front_reach(wafer.radius, wafer.thickness, wafer.bow, along)
     return reach - 0.5 * carrier.wafer_diameter
+
+
+def front_reach(radius, thickness, bow, along):
+    """How far (mm) a wafer's solid reaches along a horizontal direction f beyond its frame's
+    origin (the centre of its rim's bottom circle), ``along`` = n·f (the sine of its tilt towards
+    f). A point of the solid is origin + r u + (w(r) + s) n, u a unit vector in its plane, r <= R,
+    0 <= s <= t, w(r) = bow (1 − r²/R²) (0 for a flat wafer): along f it reaches
+    r·sqrt(1 − along²) + (w(r) + s)·along, largest at s = t when along > 0 (else s = 0) and, over
+    r, at the rim (w(R) = 0) unless bow·along > 0 puts the parabola's vertex inside it (a tilt
+    beyond atan(R / (2 bow)): 89.96° for a 300 mm wafer bowed 0.1 mm)."""
+    across = 1.0 - along * along
+    c = math.sqrt(across) if across > 0.0 else 0.0  # NaN and -0.0 give 0.0 too
+    reach = radius * c
+    if bow * along > 0.0:
+        curve = bow * along
+        vertex = c * radius * radius / (2.0 * curve)
+        if vertex < radius:
+            reach = vertex * c + curve * (1.0 - vertex * vertex / (radius * radius))
+    if along > 0.0:
+        reach += thickness * along
+    return reach
 
 
 def _carrier_wafers(carrier, wafers):
@@ -218,8 +245,9 @@ def _carrier_wafers(carrier, wafers):
 def _carrier_protrusions(carrier, wafers):
     """[(wafer, ``protrusion(carrier, wafer)``)] for each wafer inside the carrier's footprint and
     slot range: one pass with the carrier's values read once, as this runs for every wafer of a
-    fab at every scan. ``wafer.mid_center`` and ``protrusion``'s sums are written out term for
-    term (the same floats; tests/core/test_fixed_cost.py), without a level wafer's zero terms;
+    fab at every scan. Which wafers are the carrier's is judged by ``wafer.mid_center``; it and
+    ``protrusion``'s sums are written out term for term (the same floats;
+    tests/core/test_fixed_cost.py), without a level wafer's zero terms;
     a level wafer further from the carrier's centre in X or Y alone than the circle is left out
     first (most of a fab's wafers lie in other carriers)."""
     r = 0.5 * carrier.wafer_diameter
@@ -227,7 +255,7 @@ def _carrier_protrusions(carrier, wafers):
     z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
     ox, oy = carrier.center
     fx, fy = carrier.front
-    hypot, sqrt = math.hypot, math.sqrt
+    hypot = math.hypot
     found = []
     wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
     for wafer in wafers:
@@ -241,21 +269,21 @@ def _carrier_protrusions(carrier, wafers):
             mz = cz + wafer.thickness / 2.0
             if not z_lo <= mz <= z_hi:
                 continue
-            mx, my = cx, cy
-            across = 1.0  # 1 - (n.front)^2 with n.front = 0 * fx + 0 * fy = 0
-        else:
-            h = wafer.thickness / 2.0
-            nx, ny, nz = normal
-            mz = cz + h * nz
-            if not z_lo <= mz <= z_hi:
-                continue
-            mx, my = cx + h * nx, cy + h * ny
-            along_front = nx * fx + ny * fy
-            across = 1.0 - along_front * along_front
+            if hypot(cx - ox, cy - oy) < r:
+                # front_reach of a level wafer: R·sqrt(1 - 0²) = R, nothing from its thickness
+                found.append((wafer, (cx - ox) * fx + (cy - oy) * fy + wafer.diameter / 2.0 - r))
+            continue
+        h = wafer.thickness / 2.0
+        nx, ny, nz = normal
+        mz = cz + h * nz
+        if not z_lo <= mz <= z_hi:
+            continue
+        mx, my = cx + h * nx, cy + h * ny
         if hypot(mx - ox, my - oy) < r:
-            reach = (mx - ox) * fx + (my - oy) * fy
-            # sqrt(max(0.0, across)), max's choice written out (NaN and -0.0 give 0.0 too)
-            reach += wafer.diameter / 2.0 * (sqrt(across) if across > 0.0 else 0.0)
+            # ``protrusion``'s sums: the solid's frontmost point, from the bottom centre
+            reach = (cx - ox) * fx + (cy - oy) * fy
+            reach += front_reach(wafer.diameter / 2.0, wafer.thickness, wafer.bow,
+                                 nx * fx + ny * fy)
             found.append((wafer, reach - r))
     return found
 
@@ -266,18 +294,28 @@ def protruding_slots(carrier, plan, wafers):
     front edge alone, so a wafer is flagged however it is seated (SPEC §4). The slot it occupies
     is the one whose seat is nearest its bottom edge, and every slot whose seat its Z extent
     spans (a tilted, cross-slotted wafer occupies both of its slots)."""
-    slots = set()
+    by_slot, found = protrusions_by_slot(carrier, plan, wafers)
+    return sorted(by_slot), found
+
+
+def protrusions_by_slot(carrier, plan, wafers):
+    """({slot: [(wafer name, protrusion mm), …]} for the slots ``protruding_slots`` flags, and
+    every carrier wafer's (name, protrusion)): which wafers make a slot protrude, and by how
+    much, for the words of a finding."""
+    by_slot = {}
     found = []
     limit = plan.protrusion_limit
     for wafer, amount in _carrier_protrusions(carrier, wafers):
         found.append((wafer.name, amount))
         if amount > limit:
             (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
-            slots.add(plan.nearest_slot(z0))
+            slots = {plan.nearest_slot(z0)}
             for slot in range(1, plan.slot_count + 1):
                 if z0 <= plan.seat_z(slot) <= z1:
                     slots.add(slot)
-    return sorted(slots), tuple(found)
+            for slot in slots:
+                by_slot.setdefault(slot, []).append((wafer.name, amount))
+    return by_slot, tuple(found)
 
 
 def scanned_range(scan, window=None):

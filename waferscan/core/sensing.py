@@ -178,8 +178,12 @@ def sensed_scan(layout, engine="analytic", progress=None):
     if engine != "analytic":
         raise ValueError(f"a beam spot or latching in motion is computed by the analytic "
                          f"engine only, not {engine!r}")
+    asked = None
     if layout.scan.latch != STEP:
-        # Edges are continuous positions in a continuous stroke (SPEC §10): no grid.
+        # Edges are continuous positions in a continuous stroke (SPEC §10): no grid. What was
+        # asked is kept for the result's files (results.txt echoes parameters.txt).
+        if layout.scan.z_step != 0.0:
+            asked = layout.scan
         layout = layout.with_scan(z_step=0.0)
     scan = layout.scan
     if scan.final_z < scan.start_z:
@@ -236,7 +240,7 @@ def sensed_scan(layout, engine="analytic", progress=None):
                                   unscanned, scanned_range(scan, window))) + warnings
     warnings += missed_wafer_warnings(signal, outputs[first], plan, amplifier)
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions,
-                      tuple(warnings), edges=tuple(edges), signal=signal)
+                      tuple(warnings), edges=tuple(edges), signal=signal, asked_scan=asked)
 
 
 def missed_wafer_warnings(signal, output, plan, amplifier):

@@ -27,9 +27,11 @@ blocked interval narrower than the grid step can be missed there (documented:
 docs/tutorials/slow-scanning.md).
 
 What the MCS judges from them: a front nearer than a seated wafer's by more than the protrusion
-limit is a protruding wafer (6, when a jab was made it replaces the load port's check in the
-code); a sweep whose centre is turned from a seated wafer's by more than the position tolerance,
-as a sideways shift at the wafer's centre, is a position error (5), with the reason as a warning.
+limit is a protruding wafer (6, beside the load port's check: the jab adds evidence, it never
+clears a wafer the load port sees sticking out, which a jab at seat + t/2 passes over when the
+wafer sits low or high in its seat window); a sweep whose centre is turned from a seated
+wafer's by more than the position tolerance, as a sideways shift at the wafer's centre, is a
+position error (5), with the reason as a warning.
 """
 
 from __future__ import annotations
@@ -593,6 +595,25 @@ def judge(layout, plan, probes):
                         f"{', '.join(map(str, blind))} blocked at the start pose): it cannot "
                         f"tell a protruding wafer there; start the scan further out")
     return protruding, off, warnings
+
+
+def missed_protrusion_warnings(plan, probes, by_slot):
+    """One warning per probed pocket whose jab did not find the protrusion the load port's check
+    sees (``by_slot``: scan_result.protrusions_by_slot's slots): the slot still reads 6 (SPEC §4),
+    and the words say what each sensor saw."""
+    warnings = []
+    for p in probes:
+        seen = ", ".join(f"{name} {mm:.3f} mm" for name, mm in by_slot.get(p.slot, ()))
+        if p.front is None:
+            jab = "met nothing"
+        else:
+            jab = f"met the pocket's front at {p.front:.3f} mm"
+            if p.expected_front is not None:
+                jab += f" (a seated wafer's at {p.expected_front:.3f} mm)"
+        warnings.append(f"slot {p.slot}: the jab at Z = {p.z:.3f} mm {jab}, but the load port's "
+                        f"protrusion check sees {seen} out of the opening (limit "
+                        f"{plan.protrusion_limit:g} mm): protruding (6)")
+    return warnings
 
 
 def with_position_errors(slot_map, slots):

@@ -847,8 +847,17 @@ def protruding_mask(base, draws):
         & (z_lo <= mz) & (mz <= z_hi)
     fx, fy = carrier.front
     along = n[..., 0] * fx + n[..., 1] * fy
-    reach = (mx - carrier.center[0]) * fx + (my - carrier.center[1]) * fy
-    reach = reach + r * np.sqrt(np.maximum(0.0, 1.0 - along * along))
+    # the solid's frontmost point (scan_result.front_reach over arrays): from the bottom centre
+    reach = (c[..., 0] - carrier.center[0]) * fx + (c[..., 1] - carrier.center[1]) * fy
+    across = np.sqrt(np.maximum(0.0, 1.0 - along * along))
+    rim = r * across
+    curve = draws.bow.reshape(m, W) * along
+    if (curve > 0.0).any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vertex = across * r * r / (2.0 * curve)
+            inner = vertex * across + curve * (1.0 - vertex * vertex / (r * r))
+        rim = np.where((curve > 0.0) & (vertex < r), inner, rim)
+    reach = reach + (rim + np.maximum(0.0, t * along))  # front_reach's sum, then added
     amount = reach - 0.5 * carrier.wafer_diameter
     flagged = inside & (amount > plan.protrusion_limit)
     if not flagged.any():
