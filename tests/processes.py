@@ -59,9 +59,29 @@ def processes_of_run(run_id, exclude=()):
     return found
 
 
+# Helpers that Python's multiprocessing starts once for the process that uses it (Dask's local
+# cluster does, in the pytest process itself): they belong to that process, not to a test, and
+# end when it ends (they exit when the pipe from it closes). Only such a helper whose parent is
+# the pytest process is left alone.
+_PROCESS_HELPERS = ("from multiprocessing.resource_tracker import main",
+                    "from multiprocessing.forkserver import main")
+
+
+def _parent(pid):
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            return int(f.read().rsplit(b")", 1)[1].split()[1])
+    except (FileNotFoundError, ProcessLookupError, IndexError, ValueError):
+        return None
+
+
 def processes_of_this_run():
-    """The processes of the run this process belongs to, but for this process itself."""
-    return processes_of_run(os.environ[RUN_VARIABLE], exclude={os.getpid()})
+    """The processes of the run this process belongs to, but for this process itself and its
+    own multiprocessing helpers."""
+    me = os.getpid()
+    return [p for p in processes_of_run(os.environ[RUN_VARIABLE], exclude={me})
+            if not (any(helper in p.command for helper in _PROCESS_HELPERS)
+                    and _parent(p.pid) == me)]
 
 
 def end_processes(processes, grace_s=3.0):

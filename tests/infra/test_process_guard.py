@@ -125,3 +125,18 @@ def test_ctrl_c_or_sigterm_ends_what_the_stopped_test_started(suite, how):
         assert _commands(run_id) == []
     finally:
         end_processes(processes_of_run(run_id))
+
+
+def test_the_test_process_own_multiprocessing_helper_is_not_a_leak():
+    """multiprocessing's resource tracker, started once for the pytest process (Dask's local
+    cluster starts it), lives as long as that process: it is not a test's leak. The same
+    command started by a test as a process of its own would be."""
+    from multiprocessing import resource_tracker
+
+    from processes import processes_of_this_run
+
+    resource_tracker.ensure_running()
+    tracker = resource_tracker._resource_tracker._pid
+    assert tracker is not None
+    assert tracker not in [p.pid for p in processes_of_this_run()]
+    assert tracker in [p.pid for p in processes_of_run(os.environ[RUN_VARIABLE])]
