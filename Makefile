@@ -16,14 +16,14 @@ test: setup
 	$(VENV)/bin/python -m pytest tests -q
 
 # The same tests on FreeCAD 1.0: in a Debian trixie root (built once, cached in
-# /var/cache/waferscan; needs root), with a venv of its own there. See docs/FREECAD-1.0.md.
+# /var/cache/waferscan; needs root), with a venv of its own there. See docs/freecad-1.0.md.
 test-freecad1:
 	./scripts/freecad1-run.sh sh -c 'scripts/setup.sh && "$$WAFERSCAN_VENV/bin/python" -m pytest tests -q'
 
 # The documentation site, built offline and strictly (a broken link or a page missing from the
 # navigation fails it) into build/site; `make test` builds it too (tests/docs).
 docs: setup
-	$(VENV)/bin/mkdocs build --strict --site-dir build/site
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir build/site
 
 # The rehearsal of a new machine: .ci/run from a fresh clone of this checkout's HEAD, inside a
 # throwaway Debian bookworm root (minbase, cached in /var/cache/waferscan). Needs root.

@@ -6,6 +6,10 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 root=$(pwd -P)
+# One set-up at a time for this checkout: two at once (make demo and make test started together)
+# would build the same venv under each other.
+exec 9>"$root/.setup.lock"
+flock 9
 # WAFERSCAN_VENV: a venv elsewhere (the FreeCAD 1.0 root keeps its own; see freecad1-run.sh).
 venv=${WAFERSCAN_VENV:-$root/.venv}
 python=/usr/bin/python3        # FreeCAD is built against Debian's Python: the venv must use it too
@@ -51,9 +55,21 @@ if [ -z "$fc_lib" ] || [ -z "$fc_mod" ] || [ -z "$fc_user" ]; then
 fi
 
 # 3. The venv. --system-site-packages: it sees Debian's PySide2, pivy and FreeCAD's dependencies.
+# A venv is whole once .waferscan-venv.created is written: one cut short (Ctrl-C, a full disk)
+# is made again rather than used without pip. (A venv made before the marker existed is whole
+# if its pip imports.)
+if [ -e "$venv" ] && [ ! -e "$venv/.waferscan-venv.created" ]; then
+  if "$venv/bin/python" -c "import pip" >/dev/null 2>&1; then
+    : >"$venv/.waferscan-venv.created"
+  else
+    say "removing $venv: its creation did not finish"
+    rm -rf "$venv"
+  fi
+fi
 if [ ! -x "$venv/bin/python" ]; then
   say "creating $venv"
   "$python" -m venv --system-site-packages "$venv"
+  : >"$venv/.waferscan-venv.created"
 fi
 site_packages=$("$venv/bin/python" -c "import sysconfig; print(sysconfig.get_paths()['purelib'])")
 

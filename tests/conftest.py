@@ -46,6 +46,10 @@ def pytest_collection_modifyitems(items):
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item, nextitem):
     yield
+    if nextitem is not None and nextitem.path == item.path:
+        # A process may live on for a fixture the next test of this module shares: it is judged
+        # after the module's last test.
+        return
     left = _ours()
     if left:
         # A process being stopped may need a moment to go: look again before calling it a leak.
@@ -53,9 +57,6 @@ def pytest_runtest_protocol(item, nextitem):
         while left and time.monotonic() < deadline:
             time.sleep(0.1)
             left = _ours()
-    if left and nextitem is not None and nextitem.path == item.path:
-        # Still alive for a fixture the next test of this module shares: judged at its end.
-        return
     for process in left:
         LEAKS.append((item.nodeid, process))
     end_processes(left)
