@@ -893,14 +893,28 @@ def map_runs(plan, bottom, top, ok):
 
     landings = []  # (slot, state, valid) arrays (m, R)
     if plan.rules == mapping.BOUNDARY:
+        # mapping._judge_by_boundaries over arrays, the same floats: references at seat + t/2,
+        # boundaries halfway between them, none beyond the outer slots.
+        first_reference = first + 0.5 * plan.wafer_thickness
+
+        def nearest_reference(z):
+            slot = np.floor((z - first_reference) / pitch + 0.5).astype(np.int64) + 1
+            return np.minimum(S, np.maximum(1, slot))
+
+        def reference(slot):
+            return seat(slot) + 0.5 * plan.wafer_thickness
+
+        def boundary(slot):
+            return reference(slot) + 0.5 * pitch
+
         centre = 0.5 * (bottom + top)
-        slot = nearest(centre)
-        lowest = nearest(bottom)
-        highest = nearest(top)
+        slot = nearest_reference(centre)
+        lowest = nearest_reference(bottom)
+        highest = nearest_reference(top)
         span = int(np.max(np.where(ok, highest - lowest, 0), initial=0))
 
         def crossed(b):
-            bz = seat(b) + 0.5 * pitch
+            bz = boundary(b)
             return (b >= lowest) & (b < highest) & (bottom < bz - eps) & (top > bz + eps)
 
         any_crossed = np.zeros((m, R), dtype=bool)
@@ -911,15 +925,14 @@ def map_runs(plan, bottom, top, ok):
             spanned = crossed(s - 1) | crossed(s)
             landings.append((s, np.full((m, R), CROSS), ok & any_crossed & spanned))
         long_run = ~any_crossed & (length > limit + eps)
-        above_b = seat(slot) + 0.5 * pitch
-        below_b = seat(slot - 1) + 0.5 * pitch
-        up = long_run & (above_b - centre <= pitch / 3.0 + eps)
-        down = long_run & ~up & (centre - below_b <= pitch / 3.0 + eps)
+        third = pitch / 3.0 + eps
+        up = long_run & (slot < S) & (boundary(slot) - centre <= third)
+        down = long_run & ~up & (slot > 1) & (centre - boundary(slot - 1) <= third)
         landings.append((slot, np.full((m, R), CROSS), ok & (up | down)))
         landings.append((np.where(up, slot + 1, slot - 1), np.full((m, R), CROSS),
                          ok & (up | down)))
         single = ok & ~any_crossed & ~up & ~down
-        offset = bottom - seat(slot)
+        offset = centre - reference(slot)
         state = np.where(length > high + eps, DOUBLE,
                          np.where(length < low - eps, THIN,
                                   np.where((offset > above + eps) | (-offset > below + eps),
@@ -984,7 +997,9 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
 
 def block_tally(base, result):
     """What a block adds to a sweep's summary: the confusion counts (8 x 8: truth x reported),
-    and the measured thickness and offset from the seat of the slots by their true state."""
+    and the measured thickness and offset from the seat of the slots by their true state (under
+    "boundary" rules the offset of the run's centre from the slot's reference, seat + t/2, as
+    those rules judge position)."""
     import numpy as np
 
     truth = result["truth"].astype(np.int64)
@@ -994,9 +1009,14 @@ def block_tally(base, result):
     plan = base.plan
     seats = np.array([plan.seat_z(s) for s in range(1, plan.slot_count + 1)])
     thickness = result["thickness"]
+    if plan.rules == mapping.BOUNDARY:
+        # The position those rules judge: the run's centre against the slot's reference.
+        offset = (result["bottom"] + 0.5 * thickness) - (seats[None, :]
+                                                         + 0.5 * plan.wafer_thickness)
+    else:
+        offset = result["bottom"] - seats[None, :]
     if plan.thickness_correction != 1.0:
         thickness = thickness / plan.thickness_correction
-    offset = result["bottom"] - seats[None, :]
     measured = {}
     # A slot's own run: not a cross-slotted run from a neighbour, not half a pitch off its seat.
     own = ~np.isnan(thickness) & (reported != CROSS) & (reported != UNSCANNED) & \
