@@ -49,15 +49,81 @@ def bowed_local_solid(radius, t, bow):
     return Part.Solid(Part.Shell(solid.Faces)) if solid.ShapeType != "Solid" else solid
 
 
+# How far (mm) beyond the segment's ends a crossing still touches it: OpenCASCADE's confusion.
+_TOUCH = Part.Precision.confusion()
+# How far a surface parameter may lie outside its face's range and still be on the face: the
+# rim cylinder's height (mm) or the paraboloids' Bezier parameter (0 to 1 over R mm).
+_PARAMETER_SLACK = 1e-12
+# How far (mm) a crossing may lie from the point of the face its parameters give: the
+# intersection's own precision on these surfaces (~1e-12 mm), with room.
+_ON_FACE = 1e-9
+
+
 def bowed_blocked(solid, emitter, beam):
-    """Whether the beam segment meets the bowed solid: the length of their common part, since
-    OpenCASCADE's distToShape misses a segment that dips into a surface of revolution and out
-    again (its extrema there); a segment wholly inside counts by its emitter."""
-    end = tuple(o + beam.length * d for o, d in zip(emitter, beam.direction))
-    if solid.isInside(App.Vector(*emitter), 0.0, True):
+    """Whether the beam segment meets the bowed solid (``bowed_wafer_solid``): it crosses one
+    of the solid's faces between its ends, or it lies wholly inside (its emitter inside).
+
+    The crossings are OpenCASCADE's curve-surface intersections (GeomAPI_IntCS) of the beam's
+    line with each face's own surface, exact to ~1e-12 mm on these surfaces, rim included.
+    Neither the Boolean common of the segment with the solid nor the solid classifier
+    (``isInside``) serves here: both lose a beam that crosses the wafer within ~0.3 mm of its
+    rim (the classifier calls points 0.1 mm inside the rim outside; the common there is
+    empty), and the common's edges deviate by up to ~4e-3 mm from the solid's."""
+    direction = _unit(beam.direction)
+    if any(-_TOUCH <= s <= beam.length + _TOUCH
+           for s in _crossings(solid, emitter, direction)):
         return True
-    edge = Part.LineSegment(App.Vector(*emitter), App.Vector(*end)).toShape()
-    return solid.common(edge).Length > 0.0
+    return _inside(solid, emitter)
+
+
+def _unit(vector):
+    x, y, z = vector
+    norm = (x * x + y * y + z * z) ** 0.5
+    return (x / norm, y / norm, z / norm)
+
+
+def _crossings(solid, origin, direction):
+    """The distances (mm, signed, along the unit ``direction`` from ``origin``) at which the
+    line through them meets the solid's faces. Each face of ``bowed_local_solid`` is a whole
+    turn of one profile edge, so its domain is its rectangle of surface parameters: a point the
+    intersection finds on the surface is on the face when its parameters are in range. A line
+    lying in a face's surface (a ruling of the rim cylinder, along which its height parameter
+    changes linearly) meets the face where that parameter reaches the face's ends."""
+    o = App.Vector(*origin)
+    d = App.Vector(*direction)
+    line = Part.Line(o, o + d)
+    found = []
+    for face in solid.Faces:
+        surface = face.Surface
+        u0, u1, v0, v1 = face.ParameterRange
+        points, segments = line.intersectCS(surface)
+        if segments:
+            start, rate = surface.parameter(o)[1], surface.parameter(o + d)[1]
+            rate -= start
+            if rate != 0.0:
+                found += [(v - start) / rate for v in (v0, v1)]
+        for at in (App.Vector(p.X, p.Y, p.Z) for p in points):
+            # A point the intersection finds a little beyond a bounded surface's end projects
+            # onto that end: on the face only if its parameters are in range and it is there.
+            u, v = surface.parameter(at)
+            if v0 - _PARAMETER_SLACK <= v <= v1 + _PARAMETER_SLACK and \
+                    (surface.value(u, v) - at).Length <= _ON_FACE:
+                found.append((at - o).dot(d))
+    return found
+
+
+def _inside(solid, point):
+    """Whether ``point`` lies inside the bowed solid: a ray from it crosses the solid's faces
+    an odd number of times. The ray runs along the wafer's axis (it crosses one of the two
+    paraboloids from inside, both or none from outside; never the rim cylinder, which is
+    parallel to it), or across the wafer for a point within 1 mm of the axis, whose ray would
+    pass through the paraboloids' poles."""
+    placement = solid.Placement
+    local = placement.inverse().multVec(App.Vector(*point))
+    ray = App.Vector(0, 0, 1) if local.x ** 2 + local.y ** 2 >= 1.0 else App.Vector(1, 0, 0)
+    ray = placement.Rotation.multVec(ray)
+    ahead = [s for s in _crossings(solid, point, (ray.x, ray.y, ray.z)) if s > 0.0]
+    return len(ahead) % 2 == 1
 
 
 class BowedWafer(features._Proxy):
