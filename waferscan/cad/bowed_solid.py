@@ -4,7 +4,10 @@ the closed forms in core/bow.py, and as the document object that draws a bowed w
 In the wafer's frame (origin the centre of the rim's bottom circle, Z its normal) the bottom
 surface is z = bow (1 - r²/R²): a quadratic Bezier with poles (0, bow), (R/2, bow), (R, 0)
 traces exactly that parabola (r = R s, z = bow (1 - s²)). The profile (bottom parabola, rim,
-top parabola t higher, axis) is revolved about Z.
+top parabola t higher, axis) is revolved about Z. Whether a beam meets it (``bowed_blocked``)
+is found on these faces' own surfaces, exactly (to ~1e-12 mm), rim included: not with
+OpenCASCADE's Boolean common, classifier or sampled curve-surface intersection, which lose or
+misplace a beam that grazes the rim or dips into a paraboloid over a short stretch.
 
 The document object (``BowedWafer``, a Part::FeaturePython) has a Part::Cylinder's Radius,
 Height and Placement and the wafer's ``Bow``; its shape is this solid, so the 3D view shows the
@@ -15,6 +18,8 @@ Part::Cylinders.
 """
 
 from __future__ import annotations
+
+import math
 
 import FreeCAD as App
 import Part
@@ -63,12 +68,14 @@ def bowed_blocked(solid, emitter, beam):
     """Whether the beam segment meets the bowed solid (``bowed_wafer_solid``): it crosses one
     of the solid's faces between its ends, or it lies wholly inside (its emitter inside).
 
-    The crossings are OpenCASCADE's curve-surface intersections (GeomAPI_IntCS) of the beam's
-    line with each face's own surface, exact to ~1e-12 mm on these surfaces, rim included.
-    Neither the Boolean common of the segment with the solid nor the solid classifier
-    (``isInside``) serves here: both lose a beam that crosses the wafer within ~0.3 mm of its
-    rim (the classifier calls points 0.1 mm inside the rim outside; the common there is
-    empty), and the common's edges deviate by up to ~4e-3 mm from the solid's."""
+    The crossings are found on each face's own surface, as OpenCASCADE holds it: the rim
+    cylinder's by OpenCASCADE's curve-surface intersection (GeomAPI_IntCS, in closed form for
+    a cylinder), the two paraboloids' by ``_revolution_crossings`` from their surfaces of
+    revolution's axes and Bezier profiles. OpenCASCADE's own tools do not serve for these:
+    the Boolean common of the segment with the solid and the solid classifier (``isInside``)
+    lose a beam that crosses the wafer within ~0.3 mm of its rim and put edges up to ~4e-3
+    mm off, and GeomAPI_IntCS samples a surface of revolution, missing a line that dips into
+    it over a short stretch (0.3 mm off on a steeply tilted wafer)."""
     direction = _unit(beam.direction)
     if any(-_TOUCH <= s <= beam.length + _TOUCH
            for s in _crossings(solid, emitter, direction)):
@@ -96,6 +103,9 @@ def _crossings(solid, origin, direction):
     for face in solid.Faces:
         surface = face.Surface
         u0, u1, v0, v1 = face.ParameterRange
+        if isinstance(surface, Part.SurfaceOfRevolution):
+            found += _revolution_crossings(surface, v0, v1, o, d)
+            continue
         points, segments = line.intersectCS(surface)
         if segments:
             start, rate = surface.parameter(o)[1], surface.parameter(o + d)[1]
@@ -109,6 +119,95 @@ def _crossings(solid, origin, direction):
             if v0 - _PARAMETER_SLACK <= v <= v1 + _PARAMETER_SLACK and \
                     (surface.value(u, v) - at).Length <= _ON_FACE:
                 found.append((at - o).dot(d))
+    return found
+
+
+def _revolution_crossings(surface, v0, v1, o, d):
+    """The distances along the unit ``d`` from ``o`` at which that line meets a surface of
+    revolution whose profile is a polynomial (non-rational Bezier) curve, within its profile
+    parameters [v0, v1]. In the axis's frame a line point at s has height zp + s zq and squared
+    distance A s² + B s + C from the axis; a profile point at v has height z(v) and distance
+    ρ(v), both polynomials in v. Eliminating s (s = (z(v) − zp) / zq) leaves one polynomial in
+    v (for a line across the axis, zq = 0: z(v) = zp, then s from the quadratic); its real roots
+    are refined by Newton's method on the two equations in (s, v) and kept where the line
+    point lies on the surface."""
+    import numpy as np
+    from numpy.polynomial import polynomial as poly
+
+    curve = surface.BasisCurve
+    if not isinstance(curve, Part.BezierCurve) or curve.isRational():
+        raise ValueError("a bowed wafer's faces are turns of polynomial Bezier profiles")
+    axis = surface.Direction
+    axis = axis * (1.0 / axis.Length)
+    centre = surface.Location
+    offsets = [pole - centre for pole in curve.getPoles()]
+    across = [w - axis * w.dot(axis) for w in offsets]
+    radial = max(across, key=lambda w: w.Length)
+    radial = radial * (1.0 / radial.Length)
+    k = len(offsets) - 1
+    bernstein = [math.comb(k, i) * poly.polymul(poly.polypow([0.0, 1.0], i),
+                                                  poly.polypow([1.0, -1.0], k - i))
+                 for i in range(k + 1)]
+    rho = sum(b * w.dot(radial) for b, w in zip(bernstein, offsets))
+    height = sum(b * w.dot(axis) for b, w in zip(bernstein, offsets))
+    p = o - centre
+    zp, zq = p.dot(axis), d.dot(axis)
+    p_across, q_across = p - axis * zp, d - axis * zq
+    a, b, c = q_across.dot(q_across), 2.0 * p_across.dot(q_across), p_across.dot(p_across)
+    shifted = poly.polysub(height, [zp])
+    if abs(zq) > 1e-9:
+        # zq² (A s² + B s + C − ρ²) with zq s = z(v) − zp
+        equation = poly.polyadd(poly.polyadd(a * poly.polymul(shifted, shifted),
+                                             b * zq * shifted),
+                                poly.polysub([c * zq * zq], zq * zq * poly.polymul(rho, rho)))
+    else:
+        equation = shifted
+    equation = np.trim_zeros(np.asarray(equation, dtype=float), "b")
+    scale = np.max(np.abs(equation)) if len(equation) else 0.0
+    if scale == 0.0:
+        return []
+    while abs(equation[-1]) <= 1e-14 * scale:  # a degree lost to rounding
+        equation = equation[:-1]
+    if len(equation) < 2:
+        return []
+    pairs = []
+    for root in poly.polyroots(equation):
+        if abs(root.imag) > 1e-6:
+            continue
+        v = root.real
+        if abs(zq) > 1e-9:
+            pairs.append(((poly.polyval(v, height) - zp) / zq, v))
+        else:
+            r2 = poly.polyval(v, rho) ** 2
+            disc = b * b - 4.0 * a * (c - r2)
+            if disc >= -1e-12 * max(1.0, b * b):
+                root_disc = math.sqrt(max(0.0, disc))
+                pairs += [((-b - root_disc) / (2.0 * a), v), ((-b + root_disc) / (2.0 * a), v)]
+    d_rho, d_height = poly.polyder(rho), poly.polyder(height)
+    found = []
+    for s, v in pairs:
+        for _ in range(8):  # Newton on F1 = zp + s zq − z(v), F2 = A s² + B s + C − ρ(v)²
+            r_v = poly.polyval(v, rho)
+            f1 = zp + s * zq - poly.polyval(v, height)
+            f2 = (a * s + b) * s + c - r_v * r_v
+            j11, j12 = zq, -poly.polyval(v, d_height)
+            j21, j22 = 2.0 * a * s + b, -2.0 * r_v * poly.polyval(v, d_rho)
+            det = j11 * j22 - j12 * j21
+            if det == 0.0:
+                break
+            ds = (-f1 * j22 + f2 * j12) / det
+            dv = (-f2 * j11 + f1 * j21) / det
+            s, v = s + ds, v + dv
+            if abs(ds) < 1e-15 * (1.0 + abs(s)) and abs(dv) < 1e-15:
+                break
+        if not v0 - _PARAMETER_SLACK <= v <= v1 + _PARAMETER_SLACK:
+            continue
+        r_v = poly.polyval(v, rho)
+        if r_v < -_ON_FACE:
+            continue  # the profile's mirror image through the axis, not the surface
+        line_r = math.sqrt(max(0.0, (a * s + b) * s + c))
+        if math.hypot(zp + s * zq - poly.polyval(v, height), line_r - r_v) <= _ON_FACE:
+            found.append(float(s))
     return found
 
 
