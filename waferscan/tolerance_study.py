@@ -373,7 +373,7 @@ def format_summary(summary):
     for true, counts in summary["confusion"].items():
         lines.append("  " + f"{true:>14} " + " ".join(f"{counts.get(r, 0):>10,}"
                                                       for r in names))
-    lines += ["", "per state: miss rate [95 %], false-call rate [95 %]"]
+    lines += ["", "per state: miss rate [95 %], false-call rate [95 %] (intervals over the layouts)"]
     for state, r in summary["rates"].items():
         def pct(v, ci):
             if v is None:

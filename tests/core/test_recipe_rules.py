@@ -130,31 +130,35 @@ def test_unknown_rules_are_refused():
 
 def test_boundary_a_run_across_a_boundary_is_cross_slotted_at_any_length():
     b = plan(rules=BOUNDARY)
-    assert code(b, (104.6, 105.4)) == "22000"           # boundary of slots 1 and 2 at 105.0
-    assert code(b, (104.6, 105.0)) == "50000"           # reaches the boundary, does not cross:
-    # centre 104.8 -> slot 1, bottom 4.6 above its seat: position error
+    # references at seat + t/2 (100.35, 110.35, ...): the boundary of slots 1 and 2 is 105.35
+    assert code(b, (104.6, 105.4)) == "22000"
+    assert code(b, (104.6, 105.35)) == "50000"          # reaches the boundary, does not cross:
+    # centre 104.975 -> slot 1, 4.625 above its reference: position error
     assert code(b, (104.0, 116.0)) == "22200"           # spans three slots: all three
 
 
 def test_boundary_a_long_run_near_a_boundary_is_cross_slotted_far_from_it_thick():
     b = plan(rules=BOUNDARY)                             # double limit 2.5 t = 1.75
-    # centre 101.7: 3.3 mm below the boundary at 105 (a third of a pitch is 3.33): cross.
-    assert code(b, (100.8, 102.6)) == "22000"
-    # centre 101.6: 3.4 mm from it: thick, and the thickness is judged before the position.
-    assert code(b, (100.7, 102.5)) == "30000"
-    # the same near the lower boundary of slot 2 (at 105): centre 108.3 is 3.3 above it.
-    assert code(b, (107.4, 109.2)) == "22000"
+    # centre 102.05: 3.3 mm below the boundary at 105.35 (a third of a pitch is 3.33): cross.
+    assert code(b, (101.15, 102.95)) == "22000"
+    # centre 101.95: 3.4 mm from it: thick, and the thickness is judged before the position.
+    assert code(b, (101.05, 102.85)) == "30000"
+    # the same near the lower boundary of slot 2 (at 105.35): centre 108.65 is 3.3 above it.
+    assert code(b, (107.75, 109.55)) == "22000"
     # exactly 2.5 t near a boundary: not beyond the limit, so thick.
-    assert code(b, (100.9, 102.65)) == "30000"
+    assert code(b, (101.25, 103.0)) == "30000"
 
 
-def test_boundary_run_belongs_to_the_seat_nearest_its_centre():
+def test_boundary_run_is_placed_by_its_centre_against_its_reference():
     b = plan(rules=BOUNDARY)
-    # bottom 104.2 is nearest seat 1, but the centre 105.3 is nearest seat 2 (boundary at 105):
-    # the run crosses that boundary, so cross-slotted; a shorter one wholly above it is slot 2's.
-    assert judge_run(b, 105.1, 105.8) == [(2, POSITION_ERROR)]
-    assert judge_run(plan(), 105.1, 105.8) == [(2, POSITION_ERROR)]
-    # bottom 104.9 (nearest seat 1) and centre 105.25: crosses 105 -> slots 1 and 2.
+    # bottom 0.4 above the seat (seated by its bottom edge), 1.0 long: its centre 110.9 is
+    # 0.55 above the reference 110.35 -- a position error by the centre
+    assert judge_run(b, 110.4, 111.4) == [(2, POSITION_ERROR)]
+    assert judge_run(plan(), 110.4, 111.4) == [(2, PRESENT)]
+    # bottom 0.6 below the seat, 1.0 long: centre 109.9 is 0.45 below the reference: present
+    assert judge_run(b, 109.4, 110.4) == [(2, PRESENT)]
+    assert judge_run(plan(), 109.4, 110.4) == [(2, POSITION_ERROR)]
+    # bottom 104.9 (nearest seat 1) and centre 105.25: crosses 105.35 -> slots 1 and 2.
     assert judge_run(b, 104.9, 105.6) == [(1, CROSS), (2, CROSS)]
     assert judge_run(plan(), 104.9, 105.6) == [(1, POSITION_ERROR)]
 
@@ -166,7 +170,7 @@ def test_boundary_run_belongs_to_the_seat_nearest_its_centre():
     ((110.8, 112.2), "05000", "03000"),
     # a thin run off its seat: position first (5) or thickness first (4)
     ((110.8, 111.1), "05000", "04000"),
-    # a run of wafer thickness across the boundary of slots 1 and 2 (at 105)
+    # a run of wafer thickness across the boundary of slots 1 and 2 (at 105.35)
     ((104.7, 105.4), "50000", "22000"),
     # 2.57 t, far from any boundary: cross by its length alone, or thick
     ((110.0, 111.8), "02200", "03000"),
@@ -184,7 +188,7 @@ def test_the_two_rule_sets_on_the_same_runs(run, by_waferscan, by_boundary):
 def test_the_two_rule_sets_on_a_whole_carrier():
     runs = [(100.0, 100.7),     # slot 1 seated: 1 by both
             (110.8, 112.2),     # slot 2, thick and 0.8 off its seat: 5 | 3
-            (124.7, 125.4),     # bottom nearest seat 3 (4.7 off): 5 | across 125: slots 3, 4 get 2
+            (124.7, 125.4),     # bottom nearest seat 3 (4.7 off): 5 | across 125.35: 3, 4 get 2
             (130.0, 131.8)]     # 2.57 t: cross in slots 4, 5 | thick in slot 4, outranked by 2
     assert map_slots(plan(), runs).code == "15522"
     assert map_slots(plan(rules=BOUNDARY), runs).code == "13220"

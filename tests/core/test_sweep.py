@@ -225,10 +225,14 @@ def test_uniform_seat_offset_of_one_mm_gives_half_position_errors():
     n = sum(row.values())
     k = row["position_error"]
     assert row["present"] + k == n == 2000 * 8
-    low, high = sweep.wilson(k, n)
+    low, high = summary["rates"]["present"]["miss_rate_95"]
     assert low <= 0.5 <= high
-    # Every present wafer missed was called a position error: the same count, the same interval.
-    assert summary["rates"]["present"]["miss_rate_95"] == [low, high]
+    # Offsets drawn per wafer: a layout's slots are independent trials, and the interval over
+    # layouts (tests/core/test_sweep_intervals.py) is about Wilson's over the slots, never
+    # narrower.
+    slot_low, slot_high = sweep.wilson(k, n)
+    assert slot_high - slot_low <= high - low <= 1.2 * (slot_high - slot_low)
+    # Every present wafer missed was called a position error.
     assert summary["rates"]["position_error"]["false_call_rate"] == k / (n + 2000 * 4 + 2000 * 13)
 
 
@@ -334,7 +338,8 @@ def test_linear_percentile_is_numpys_percentile_bit_for_bit(n):
 
 
 def _fake_partition(values_t, values_p):
-    return {"confusion": np.zeros((8, 8), dtype=np.int64), "weakest_peak": 1.0,
+    return {"confusion": np.zeros((8, 8), dtype=np.int64),
+            "moments": np.zeros((8, 6, 6), dtype=np.int64), "weakest_peak": 1.0,
             "extremes": {"thickness": None, "offset": None, "thin_thickness": None,
                          "double_thickness": None, "misplaced_offset": None},
             "margins": {"thickness": np.sort(values_t), "position": np.sort(values_p)}}

@@ -2,13 +2,14 @@
 
 A real controller sees only the sensor's runs; it knows the carrier's nominal slots (seat of slot
 1, pitch, count) and the wafer's nominal thickness, and judges each run by its bottom edge and its
-length (SPEC §4).
+length (SPEC §4), or under the ``boundary`` rule set by its centre and length (SPEC §11).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 EMPTY, PRESENT, CROSS, DOUBLE, THIN, POSITION_ERROR, PROTRUDING = 0, 1, 2, 3, 4, 5, 6
 # A slot whose window the scan did not wholly cover (SPEC §3, §4): its state is not known, and
@@ -92,7 +93,8 @@ class SlotPlan:
 
     def position_window(self):
         """(below, above): how far (mm, both >= 0) a run's bottom edge may lie below and above
-        its slot's seat and still be seated; inclusive up to LIMIT_SLACK."""
+        its slot's seat and still be seated (under ``"boundary"`` rules: its centre below and
+        above the slot's reference, ``reference_z``); inclusive up to LIMIT_SLACK."""
         below = self.position_tolerance if self.position_below is None else self.position_below
         above = self.position_tolerance if self.position_above is None else self.position_above
         return (below, above)
@@ -115,10 +117,17 @@ class SlotPlan:
             return diff
         return diff / self.thickness_correction
 
+    def reference_z(self, slot):
+        """Under ``"boundary"`` rules, the slot's **reference** (mm): where a seated wafer's
+        centre is expected, its seat plus half the nominal thickness. A run belongs to the slot
+        whose reference is nearest its centre and is placed by its centre against it."""
+        return self.seat_z(slot) + 0.5 * self.wafer_thickness
+
     def boundary_z(self, slot):
         """The Z (mm) of the boundary between ``slot`` and ``slot + 1`` under ``"boundary"``
-        rules: halfway between their seats (the slot references)."""
-        return self.seat_z(slot) + 0.5 * self.pitch
+        rules: halfway between their references. There is none below slot 1 or above the top
+        slot: only 1 <= slot < slot_count has one."""
+        return self.reference_z(slot) + 0.5 * self.pitch
 
     def seat_z(self, slot):
         return self.first_slot_z + (slot - 1) * self.pitch
@@ -169,14 +178,8 @@ def judge_run(plan, bottom, top):
 def run_judge(plan):
     """``judge_run`` for one plan, as a function of (bottom, top): what depends on the plan
     alone (its rule set and limits) worked out once for all of a scan's runs."""
-    if plan.rules == BOUNDARY:
-        count = plan.slot_count
-
-        def judged(bottom, top):
-            return [(slot, state) for slot, state in _judge_by_boundaries(plan, bottom, top)
-                    if 1 <= slot <= count]
-
-        return judged
+    if plan.rules == BOUNDARY:  # its slots are always within 1..slot_count
+        return partial(_judge_by_boundaries, plan)
     return _bottom_edge_judge(plan)
 
 
@@ -219,34 +222,46 @@ def _bottom_edge_judge(plan):
     return judge
 
 
+def _nearest_reference(plan, z):
+    """The slot whose reference (``SlotPlan.reference_z``) is nearest to z, kept within
+    1..slot_count: under ``"boundary"`` rules there is no boundary beyond the outer slots, so a
+    run below slot 1's or above the top slot's is theirs."""
+    first = plan.first_slot_z + 0.5 * plan.wafer_thickness
+    slot = int(math.floor((z - first) / plan.pitch + 0.5)) + 1
+    return min(plan.slot_count, max(1, slot))
+
+
 def _judge_by_boundaries(plan, bottom, top):
-    """SPEC §11 "boundary" rules: a run belongs to the seat nearest its centre; it is
-    cross-slotted when it crosses a boundary (halfway between seats: every slot it spans gets 2)
-    or when it is longer than the double limit with its centre within a third of a pitch of a
-    boundary (both slots around that boundary get 2); otherwise it is judged first by thickness
-    (thick, thin) and only then by the position of its bottom edge against the seat."""
+    """SPEC §11 "boundary" rules (the open controller of DOMAIN-NOTES): a slot's reference is
+    its seat + t/2 and the boundary between two slots lies halfway between their references
+    (none beyond the outer slots). A run belongs to the slot whose reference is nearest its
+    centre; it is cross-slotted when it crosses a boundary (every slot it spans gets 2) or when
+    it is longer than the double limit with its centre within a third of a pitch of a boundary
+    (both slots around that boundary get 2); otherwise it is judged first by thickness (thick,
+    thin) and only then by the position of its centre against the reference, with the
+    position window (below, above) of the plan."""
     length = plan.corrected(top - bottom)
     eps = LIMIT_SLACK
+    count = plan.slot_count
     centre = 0.5 * (bottom + top)
-    slot = _nearest_slot(plan, centre)
-    # The boundaries either side of the run's own slot: slot-1 | slot and slot | slot+1. A run
-    # that reaches past one crosses it; a run may span several slots.
-    lowest = _nearest_slot(plan, bottom)
-    highest = _nearest_slot(plan, top)
+    slot = _nearest_reference(plan, centre)
+    # The boundaries between the slots nearest the run's ends: a run that reaches past one
+    # crosses it; a run may span several slots.
+    lowest = _nearest_reference(plan, bottom)
+    highest = _nearest_reference(plan, top)
     crossed = [s for s in range(lowest, highest) if bottom < plan.boundary_z(s) - eps
                and top > plan.boundary_z(s) + eps]
     if crossed:
         spanned = sorted({s for b in crossed for s in (b, b + 1)})
         return [(s, CROSS) for s in spanned]
     if length > plan.double_limit() + eps:
-        below_boundary = plan.boundary_z(slot - 1)
-        above_boundary = plan.boundary_z(slot)
-        if above_boundary - centre <= plan.pitch / 3.0 + eps:
+        third = plan.pitch / 3.0 + eps
+        if slot < count and plan.boundary_z(slot) - centre <= third:
             return [(slot, CROSS), (slot + 1, CROSS)]
-        if centre - below_boundary <= plan.pitch / 3.0 + eps:
+        if slot > 1 and centre - plan.boundary_z(slot - 1) <= third:
             return [(slot - 1, CROSS), (slot, CROSS)]
     low, high = plan.thickness_window()
-    offset = bottom - plan.seat_z(slot)
+    offset = centre - plan.reference_z(slot)
     below, above = plan.position_window()
     if length > high + eps:
         state = DOUBLE
@@ -257,6 +272,28 @@ def _judge_by_boundaries(plan, bottom, top):
     else:
         state = PRESENT
     return [(slot, state)]
+
+
+def two_run_warnings(plan, slot_map, runs):
+    """Under ``"boundary"`` rules, one sentence for each slot that reads a position error
+    because a second run landed in it (``map_slots``), naming its runs (``runs``: the (bottom,
+    top) pairs given to ``map_slots``). The controller those rules come from keeps a slot's last
+    run and says nothing; WaferScan keeps the finding, and says why it differs."""
+    if plan.rules != BOUNDARY:
+        return []
+    judge = run_judge(plan)
+    warnings = []
+    for s in slot_map.slots:
+        if s.state != POSITION_ERROR or len(s.runs) < 2:
+            continue
+        if not any(state != CROSS for i in s.runs[1:] for slot, state in judge(*runs[i])
+                   if slot == s.slot):
+            continue
+        named = " and ".join(f"{runs[i][0]:.3f} to {runs[i][1]:.3f} mm" for i in s.runs)
+        warnings.append(f"slot {s.slot} holds {len(s.runs)} sensor runs ({named}): reported "
+                        f"as a position error (5); the controller of the boundary rules keeps "
+                        f"only the last run, which would hide a wafer")
+    return warnings
 
 
 def unscanned_slots(plan, scanned):

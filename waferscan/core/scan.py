@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from . import slow_scan
 from .engines import ExactHits, run_engine
-from .mapping import POSITION_ERROR, map_slots, unscanned_slots
+from .mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slots
 from .model import SLOW
 # The parts of a scan's result live in scan_result (shared with core/sensing.py); they are
 # named here too, where callers have always found them.
@@ -77,8 +77,10 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
                     plan, [p for p in pockets if p.slot in missed], by_slot)
             flagged = sorted(set(flagged) | set(jabbed))
     # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
-    slot_map = map_slots(plan, [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
-                                for z_in, z_out in latched], flagged, unscanned)
+    spans = [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
+             for z_in, z_out in latched]
+    slot_map = map_slots(plan, spans, flagged, unscanned)
+    probe_warnings += two_run_warnings(plan, slot_map, spans)  # "boundary" rules only
     slot_map = slow_scan.with_position_errors(slot_map, swept_off)
     # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
     probe_warnings += [why for slot, why in sorted(dict(swept_off).items())

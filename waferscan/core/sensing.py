@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from .amplifier import (SAMPLES_PER_SPOT, grouped_level_intervals, output_intervals,
                         stepped_output)
 from .engines import ExactHits, analytic_engine
-from .mapping import map_slots, unscanned_slots
+from .mapping import map_slots, two_run_warnings, unscanned_slots
 from .model import DOWN, SLOW, UP
 from .motion import STEP, Stroke
 from .spot import (DEFAULT_AMPLIFIER, IDEAL_SPOT, BlockedFraction, GroupedFraction,
@@ -235,10 +235,12 @@ def sensed_scan(layout, engine="analytic", progress=None):
     flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
     scanned = (scan.start_z, scan.final_z)
     unscanned = unscanned_slots(plan, scanned)
-    slot_map = map_slots(plan, [(r.bottom, r.top) for r in runs], flagged, unscanned)
+    spans = [(r.bottom, r.top) for r in runs]
+    slot_map = map_slots(plan, spans, flagged, unscanned)
     warnings = list(scan_warnings(layout, plan, [(a, b) for a, b, _ in outputs[first]], scanned,
                                   unscanned, scanned_range(scan, window))) + warnings
     warnings += missed_wafer_warnings(signal, outputs[first], plan, amplifier)
+    warnings += two_run_warnings(plan, slot_map, spans)  # "boundary" rules only
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions,
                       tuple(warnings), edges=tuple(edges), signal=signal, asked_scan=asked)
 

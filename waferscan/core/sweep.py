@@ -902,14 +902,28 @@ def map_runs(plan, bottom, top, ok):
 
     landings = []  # (slot, state, valid) arrays (m, R)
     if plan.rules == mapping.BOUNDARY:
+        # mapping._judge_by_boundaries over arrays, the same floats: references at seat + t/2,
+        # boundaries halfway between them, none beyond the outer slots.
+        first_reference = first + 0.5 * plan.wafer_thickness
+
+        def nearest_reference(z):
+            slot = np.floor((z - first_reference) / pitch + 0.5).astype(np.int64) + 1
+            return np.minimum(S, np.maximum(1, slot))
+
+        def reference(slot):
+            return seat(slot) + 0.5 * plan.wafer_thickness
+
+        def boundary(slot):
+            return reference(slot) + 0.5 * pitch
+
         centre = 0.5 * (bottom + top)
-        slot = nearest(centre)
-        lowest = nearest(bottom)
-        highest = nearest(top)
+        slot = nearest_reference(centre)
+        lowest = nearest_reference(bottom)
+        highest = nearest_reference(top)
         span = int(np.max(np.where(ok, highest - lowest, 0), initial=0))
 
         def crossed(b):
-            bz = seat(b) + 0.5 * pitch
+            bz = boundary(b)
             return (b >= lowest) & (b < highest) & (bottom < bz - eps) & (top > bz + eps)
 
         any_crossed = np.zeros((m, R), dtype=bool)
@@ -920,15 +934,14 @@ def map_runs(plan, bottom, top, ok):
             spanned = crossed(s - 1) | crossed(s)
             landings.append((s, np.full((m, R), CROSS), ok & any_crossed & spanned))
         long_run = ~any_crossed & (length > limit + eps)
-        above_b = seat(slot) + 0.5 * pitch
-        below_b = seat(slot - 1) + 0.5 * pitch
-        up = long_run & (above_b - centre <= pitch / 3.0 + eps)
-        down = long_run & ~up & (centre - below_b <= pitch / 3.0 + eps)
+        third = pitch / 3.0 + eps
+        up = long_run & (slot < S) & (boundary(slot) - centre <= third)
+        down = long_run & ~up & (slot > 1) & (centre - boundary(slot - 1) <= third)
         landings.append((slot, np.full((m, R), CROSS), ok & (up | down)))
         landings.append((np.where(up, slot + 1, slot - 1), np.full((m, R), CROSS),
                          ok & (up | down)))
         single = ok & ~any_crossed & ~up & ~down
-        offset = bottom - seat(slot)
+        offset = centre - reference(slot)
         state = np.where(length > high + eps, DOUBLE,
                          np.where(length < low - eps, THIN,
                                   np.where((offset > above + eps) | (-offset > below + eps),
@@ -991,21 +1004,60 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
             "weakest_peak": weakest}
 
 
+# The columns of ``layout_moments``' per-layout vector of each state.
+_TRUE, _REPORTED, _CORRECT, _HOLDS, _LACKS, _ONE = range(6)
+
+
+def layout_moments(truth, reported):
+    """What the rates' intervals need of the layouts (rows of ``truth`` and ``reported``, state
+    codes (m, S)): for each state s (0..7) the sums over layouts of v vᵀ, v the layout's vector
+    (slots truly s, slots reported s, slots truly and reported s, 1 if it holds a slot truly s,
+    1 if it holds a slot not truly s, 1), an (8, 6, 6) integer array. A rate's count and its
+    trials in one layout are differences of these counts, so the sums of their squares and
+    products over layouts are sums of these entries (``rate_intervals``). Integers: partitions
+    add them up in any order to the same numbers."""
+    import numpy as np
+
+    m, S = truth.shape
+    rows = np.arange(m, dtype=np.int64)[:, None] * 8
+    cells = 8 * m
+    at = rows + truth
+    slots_true = np.bincount(at.ravel(), minlength=cells).reshape(m, 8).T
+    v = np.empty((8, m, 6))
+    v[..., _TRUE] = slots_true
+    v[..., _REPORTED] = np.bincount((rows + reported).ravel(), minlength=cells).reshape(m, 8).T
+    v[..., _CORRECT] = np.bincount(at[truth == reported], minlength=cells).reshape(m, 8).T
+    v[..., _HOLDS] = slots_true > 0
+    v[..., _LACKS] = slots_true < S
+    v[..., _ONE] = 1.0
+    # In floats for the speed of a matrix product; every entry is a whole number below
+    # 2**53 (a block's layouts x S²), so every sum of products is exact, in any order.
+    return np.matmul(v.transpose(0, 2, 1), v).astype(np.int64)
+
+
 def block_tally(base, result):
     """What a block adds to a sweep's summary: the confusion counts (8 x 8: truth x reported),
-    and the measured thickness and offset from the seat of the slots by their true state."""
+    and the measured thickness and offset from the seat of the slots by their true state (under
+    "boundary" rules the offset of the run's centre from the slot's reference, seat + t/2, as
+    those rules judge position)."""
     import numpy as np
 
     truth = result["truth"].astype(np.int64)
     reported = result["reported"].astype(np.int64)
     confusion = np.zeros((8, 8), dtype=np.int64)
     np.add.at(confusion, (truth.ravel(), reported.ravel()), 1)
+    moments = layout_moments(truth, reported)
     plan = base.plan
     seats = np.array([plan.seat_z(s) for s in range(1, plan.slot_count + 1)])
     thickness = result["thickness"]
+    if plan.rules == mapping.BOUNDARY:
+        # The position those rules judge: the run's centre against the slot's reference.
+        offset = (result["bottom"] + 0.5 * thickness) - (seats[None, :]
+                                                         + 0.5 * plan.wafer_thickness)
+    else:
+        offset = result["bottom"] - seats[None, :]
     if plan.thickness_correction != 1.0:
         thickness = thickness / plan.thickness_correction
-    offset = result["bottom"] - seats[None, :]
     measured = {}
     # A slot's own run: not a cross-slotted run from a neighbour, not half a pitch off its seat.
     own = ~np.isnan(thickness) & (reported != CROSS) & (reported != UNSCANNED) & \
@@ -1013,7 +1065,7 @@ def block_tally(base, result):
     for code in (PRESENT, THIN, DOUBLE, POSITION_ERROR):
         sel = (truth == code) & own
         measured[STATE_KEYS[code]] = (thickness[sel], offset[sel])
-    return {"confusion": confusion, "measured": measured,
+    return {"confusion": confusion, "moments": moments, "measured": measured,
             "weakest_peak": result.get("weakest_peak", 1.0)}
 
 
@@ -1023,12 +1075,14 @@ def combine_tallies(tallies):
     import numpy as np
 
     confusion = sum(t["confusion"] for t in tallies)
+    moments = sum(t["moments"] for t in tallies)
     weakest = min(t.get("weakest_peak", 1.0) for t in tallies)
     measured = {}
     for key in tallies[0]["measured"]:
         measured[key] = (np.concatenate([t["measured"][key][0] for t in tallies]),
                          np.concatenate([t["measured"][key][1] for t in tallies]))
-    return {"confusion": confusion, "measured": measured, "weakest_peak": weakest}
+    return {"confusion": confusion, "moments": moments, "measured": measured,
+            "weakest_peak": weakest}
 
 
 def partition_tally(base, tolerances, seed, n, blocks):
@@ -1052,7 +1106,8 @@ def partition_tally(base, tolerances, seed, n, blocks):
                 "thin_thickness": ends(measured["thin"][0]),
                 "double_thickness": ends(measured["double"][0]),
                 "misplaced_offset": ends(np.abs(measured["position_error"][1]))}
-    return {"confusion": tally["confusion"], "weakest_peak": tally["weakest_peak"],
+    return {"confusion": tally["confusion"], "moments": tally["moments"],
+            "weakest_peak": tally["weakest_peak"],
             "extremes": extremes,
             "margins": {key: np.sort(values) for key, values in
                         margin_values(base.plan, tally).items()}}
@@ -1076,7 +1131,7 @@ def partition_digest(part, stride=None):
     count, the largest and every ``stride``-th value from the smallest (a sorted sample;
     default DIGEST_STRIDE)."""
     stride = stride or DIGEST_STRIDE
-    out = {k: part[k] for k in ("confusion", "weakest_peak", "extremes")}
+    out = {k: part[k] for k in ("confusion", "moments", "weakest_peak", "extremes")}
     out["margins"] = {key: {"count": len(values), "stride": stride,
                             "samples": values[::stride].copy(),
                             "max": float(values[-1]) if len(values) else None}
@@ -1195,6 +1250,7 @@ def reduce_partitions(runner, handles, histograms=False):
 
     digests = runner.apply(partition_digest, handles)
     confusion = sum(d["confusion"] for d in digests)
+    moments = sum(d["moments"] for d in digests)
     weakest = min(d["weakest_peak"] for d in digests)
     extremes = {}
     for name in digests[0]["extremes"]:
@@ -1230,7 +1286,8 @@ def reduce_partitions(runner, handles, histograms=False):
         margins[key] = dist
         if histograms:
             hists[key] = (sum(d[key]["histogram"] for d in details), edges[key])
-    return {"confusion": confusion, "weakest_peak": weakest, "extremes": extremes,
+    return {"confusion": confusion, "moments": moments, "weakest_peak": weakest,
+            "extremes": extremes,
             "margins": margins, "histograms": hists}
 
 
@@ -1258,12 +1315,66 @@ def wilson(k, n, z=Z95):
     n = 0."""
     if n == 0:
         return (None, None)
-    p = k / n
+    return _wilson(k / n, n, z, k == 0, k == n)
+
+
+def _wilson(p, n, z, none, every):
+    """The Wilson score interval of a proportion p over n trials (n may be a float, an
+    effective number of trials); ``none`` (``every``): no trial (every trial) counted, so the
+    low (high) end is 0 (1) exactly, not a rounding residue of it."""
     denom = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / denom
     half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4 * n * n)) / denom
-    # At k = 0 (k = n) the low (high) end is 0 (1) exactly, not a rounding residue of it.
-    return (0.0 if k == 0 else max(0.0, centre - half), 1.0 if k == n else min(1.0, centre + half))
+    return (0.0 if none else max(0.0, centre - half), 1.0 if every else min(1.0, centre + half))
+
+
+INTERVALS = ("95 % Wilson score intervals over the layouts: the number of trials is the "
+             "slots counted divided by the design effect, the spread of the layouts' own "
+             "rates (cluster-robust, by layout) over the spread independent slots would give, "
+             "at least 1; a rate of 0 or 1 gives no spread to measure and counts one trial "
+             "per layout")
+
+
+def layout_interval(k, n, kk, kn, nn, layouts, z=Z95):
+    """The ~95 % interval (low, high) of a rate k / n counted over layouts, layout i adding
+    k_i of its n_i trials (slots): ``kk``, ``kn``, ``nn`` are the sums over layouts of k_i²,
+    k_i n_i and n_i², ``layouts`` the number of layouts with n_i > 0 (integers). The slots of
+    one layout share its draws (a beam's teach error moves them all), so they are not
+    independent trials: the variance of the rate is estimated from the layouts' spread, the
+    ratio estimator's cluster-robust variance L / (L − 1) Σ (k_i − p n_i)² / n², and the
+    Wilson interval is taken with the effective number of trials n / deff, deff that variance
+    over the binomial p (1 − p) / n, at least 1 (never narrower than independent slots). With
+    k = 0 or k = n there is no spread to measure: one trial per layout, the widest the
+    layouts allow. (None, None) when n = 0."""
+    if n == 0:
+        return (None, None)
+    if 0 < k < n and layouts > 1:
+        # n² Σ (k_i − p n_i)², p = k / n, in integers: exact, whatever the order of the sums
+        spread = kk * n * n - 2 * k * n * kn + k * k * nn
+        deff = (layouts * spread) / ((layouts - 1) * n * k * (n - k))
+        trials = n / max(1.0, deff)
+    else:
+        trials = layouts
+    return _wilson(k / n, trials, z, k == 0, k == n)
+
+
+def rate_intervals(moments, state, slots):
+    """(miss, false call) intervals of ``state`` from ``layout_moments``' sums (``slots`` a
+    layout): a miss is a slot truly the state reported otherwise (k_i = true − correct of n_i =
+    true), a false call a slot not truly the state reported as it (k_i = reported − correct of
+    n_i = slots − true)."""
+    M = [[int(v) for v in row] for row in moments[state]]
+    T, R, C, H, L, O = _TRUE, _REPORTED, _CORRECT, _HOLDS, _LACKS, _ONE
+    miss = layout_interval(M[T][O] - M[C][O], M[T][O],
+                           M[T][T] - 2 * M[T][C] + M[C][C], M[T][T] - M[T][C], M[T][T],
+                           M[H][O])
+    false_call = layout_interval(
+        M[R][O] - M[C][O], slots * M[O][O] - M[T][O],
+        M[R][R] - 2 * M[R][C] + M[C][C],
+        slots * (M[R][O] - M[C][O]) - M[T][R] + M[T][C],
+        slots * slots * M[O][O] - 2 * slots * M[T][O] + M[T][T],
+        M[L][O])
+    return miss, false_call
 
 
 PERCENTILES = (1, 5, 50, 95, 99)
@@ -1290,12 +1401,13 @@ def summarise(base, tolerances, n, seed, tally):
         missed = true_n - hits
         false_calls = reported_n - hits
         others = total - true_n
+        miss_95, false_call_95 = rate_intervals(tally["moments"], i, plan.slot_count)
         rates[name] = {
             "true": true_n, "reported": reported_n, "correct": hits,
             "miss_rate": missed / true_n if true_n else None,
-            "miss_rate_95": list(wilson(missed, true_n)),
+            "miss_rate_95": list(miss_95),
             "false_call_rate": false_calls / others if others else None,
-            "false_call_rate_95": list(wilson(false_calls, others)),
+            "false_call_rate_95": list(false_call_95),
         }
     low, high = plan.thickness_window()
     below, above = plan.position_window()
@@ -1343,6 +1455,7 @@ def summarise(base, tolerances, n, seed, tally):
                    if tolerances.states else "INPUT's load"),
         "confusion": confusion,
         "rates": rates,
+        "intervals": INTERVALS,
         "margins": tally["margins"],
         "suggested": suggested,
     }
