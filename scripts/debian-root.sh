@@ -73,7 +73,10 @@ end_processes_in() {
   pids=$(processes_in "$1")
   [ -n "$pids" ] || return 0
   say "error: processes left running in $1 after $2:"
-  ps -o pid=,etime=,args= -p "$(paste -sd, <<<"$pids")" >&2 || true
+  local pid
+  for pid in $pids; do   # from /proc: a minbase system has no ps
+    printf '  %s %s\n' "$pid" "$(tr '\0' ' ' <"/proc/$pid/cmdline" 2>/dev/null)" >&2
+  done
   kill -TERM $pids 2>/dev/null || true
   sleep 2
   pids=$(processes_in "$1")
