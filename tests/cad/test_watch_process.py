@@ -143,9 +143,15 @@ def test_a_full_disk_is_reported_and_nothing_counts_as_done(small_disk):
     assert (folder / "history" / "results-00000001.txt").is_file()
 
 
-def test_a_read_only_folder_is_reported_and_the_watcher_keeps_watching(small_disk):
+@pytest.mark.parametrize("locked", [True, False], ids=["lock file left", "no lock file"])
+def test_a_read_only_folder_is_reported_and_the_watcher_keeps_watching(small_disk, locked):
+    """With a lock file left by an earlier watcher, the folder is locked (read-locked) and the
+    answers cannot be written; without one, it cannot be locked and nothing is carried out
+    (issue 25: never an answer without the lock)."""
     folder = small_disk
     (folder / "commands.txt").write_text("1 SCF\n")
+    if locked:
+        (folder / ".waferscan.lock").write_text("")
     subprocess.run(["mount", "-o", "remount,ro", str(folder)], check=True)
     process = watch(folder, "--poll", "0.05")
     try:
@@ -155,9 +161,15 @@ def test_a_read_only_folder_is_reported_and_the_watcher_keeps_watching(small_dis
         process.send_signal(signal.SIGINT)
         out, err = process.communicate(timeout=60)
     assert process.returncode == 0 and "Traceback" not in err
-    assert "cannot write the answer to seq 1: Read-only file system; seq 1 stays " \
-           "unanswered" in err
-    assert err.count("seq 1 stays unanswered") == 1  # reported once, not at every retry
+    if locked:
+        assert "cannot write the answer to seq 1: Read-only file system; seq 1 stays " \
+               "unanswered" in err
+        assert err.count("seq 1 stays unanswered") == 1  # reported once, not at every retry
+    else:
+        assert err == (f"waferscan: {folder / '.waferscan.lock'}: cannot lock the folder "
+                       "(Read-only file system); nothing is carried out until it can be locked "
+                       "(tried again every 1 s)\n")  # once, not at every retry
+        assert "seq 1" not in out
     subprocess.run(["mount", "-o", "remount,rw", str(folder)], check=True)
     done = run_watch(folder, "--once")
     assert done.returncode == 0 and results_seq(folder) == 1

@@ -22,7 +22,7 @@ import FreeCAD as App
 
 from ..core.errors import InputError
 from ..core.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
-from ..core.mcs_link import McsLink, Scanned, read_regular_text
+from ..core.mcs_link import LockLost, McsLink, Scanned, read_regular_text
 from .document_scan import scan_document
 from .reader import DocumentScene, read_layout
 
@@ -209,13 +209,16 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
     try:
         if once:
             link.poll()
-            return 1 if link.unanswered else 0  # the fault is on stderr
+            # the fault (unwritten answers, a folder that cannot be locked) is on stderr
+            return 1 if link.unanswered or not link.locked else 0
         out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
         checked = time.monotonic()
         faults = set()
         while not stopping.is_set():
             try:
                 link.poll()
+            except LockLost:
+                raise
             except Exception as exc:  # a fault of ours: said once, and the watching goes on
                 if repr(exc) not in faults:
                     faults.add(repr(exc))
@@ -244,6 +247,9 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
                         err(f"{exc} (each scan is answered with this until it is fixed)")
                     link.scan = scanner
         return 0
+    except LockLost as exc:  # another link answers this folder now: this one must not
+        err(str(exc))
+        return 1
     except KeyboardInterrupt:
         return 0
     finally:
