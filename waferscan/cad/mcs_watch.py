@@ -20,6 +20,7 @@ from pathlib import Path
 
 import FreeCAD as App
 
+from ..core.engines import ENGINES
 from ..core.errors import InputError
 from ..core.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
 from ..core.mcs_link import LockLost, McsLink, Scanned, read_regular_text
@@ -106,6 +107,11 @@ def document_scanner(doc, folder, engine="analytic"):
         path = folder / PARAMETERS
         read = read_link_parameters(path)
         if command.name == "CAL":  # SPEC §11: the recipe from the reference wafers
+            if engine not in ENGINES:  # as `waferscan calibrate --engine` offers them
+                raise InputError(folder / COMMANDS, command.line, "CAL calibrates with the core "
+                                 f"engines only ({', '.join(sorted(ENGINES))}), as `waferscan "
+                                 f"calibrate` does; this watcher scans with the {engine} "
+                                 "engine: start one with --engine analytic to calibrate")
             return _calibrated(doc, cache, read, engine, should_stop)
         note = mode_note(read, command.name)
         parameters = read or Parameters({}, {}, str(path))

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
+import re
 import stat
 import tempfile
 from dataclasses import dataclass, replace
@@ -66,21 +67,34 @@ class Parameters:
         return InputError(self.source, self.lines.get(key), f"{key}: {message}")
 
 
+MAX_VALUE = 256  # characters of one parameters.txt value; a longer one is not read
+_KEY_LIKE = re.compile(r"[a-z][a-z0-9_]{0,39}")
+
+
 def parse_parameters(text, source=PARAMETERS):
-    """Parse parameters.txt text; unknown keys, repeated keys and bad values are errors."""
+    """Parse parameters.txt text; unknown keys, repeated keys and bad values are errors. An
+    error quotes no more of the file than a recognised key and a bounded value: a line that is
+    not ``key = value`` is not quoted at all, an unknown key only when it looks like a key (a
+    file that was never a parameters file, such as a hard link to a private one, is not
+    repeated into results.txt)."""
     values, lines = {}, {}
     for number, content in _content_lines(text.lstrip("\ufeff")):
         key, sep, value = content.partition("=")
         key = key.strip().lower()
         if not sep or not key:
-            raise InputError(source, number, f"expected 'key = value', got {content!r}")
+            raise InputError(source, number, f"expected 'key = value' (a line of "
+                                             f"{len(content):,} characters)")
         if key not in PARAMETER_KEYS:
-            raise InputError(source, number, f"unknown key {key!r} (known: "
+            shown = repr(key) if _KEY_LIKE.fullmatch(key) else f"({len(key):,} characters)"
+            raise InputError(source, number, f"unknown key {shown} (known: "
                              f"{', '.join(sorted(PARAMETER_KEYS))})")
         if key in values:
             raise InputError(source, number, f"{key}: given twice (first on line {lines[key]})")
         if not value.strip():
             raise InputError(source, number, f"{key}: no value")
+        if len(value.strip()) > MAX_VALUE:
+            raise InputError(source, number, f"{key}: a value of {len(value.strip()):,} "
+                                             f"characters: not read (at most {MAX_VALUE})")
         try:
             values[key] = PARAMETER_KEYS[key](value)
         except ValueError as exc:
