@@ -239,13 +239,27 @@ def cmd_crosscheck(args):
 
 
 def cmd_watch(args):
-    from .cad.mcs_watch import watch
+    import signal
 
-    folder = Path(args.folder)
-    if not folder.is_dir():
-        raise InputError(folder, None, "no such folder")
-    return watch(folder, Path(args.layout) if args.layout else paper_scenario(), args.engine,
-                 args.poll, once=args.once)
+    from .core.mcs_link import StopFlag, stop_on_signals
+
+    # Ctrl-C and SIGTERM stop the watcher from here on, FreeCAD's loading included: a
+    # KeyboardInterrupt inside FreeCAD's start leaves its module half made.
+    stopping = StopFlag()
+    stop_on_signals(stopping)
+    try:
+        from .cad.mcs_watch import watch
+
+        folder = Path(args.folder)
+        if not folder.is_dir():
+            raise InputError(folder, None, "no such folder")
+        return watch(folder, Path(args.layout) if args.layout else paper_scenario(),
+                     args.engine, args.poll, once=args.once, stopping=stopping)
+    finally:
+        # The process ends with the watch: a further Ctrl-C while it exits is ignored (Python
+        # would give SIGINT back its default action while it shuts down).
+        for number in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(number, signal.SIG_IGN)
 
 
 def _poll_seconds(text):
@@ -437,6 +451,9 @@ def main(argv=None):
         return 2
     except BrokenPipeError:
         return 0
+    except KeyboardInterrupt:  # Ctrl-C where a command has no stop of its own: one line
+        sys.stderr.write(f"{PROG}: interrupted\n")
+        return 130
     finally:
         # FreeCAD 1.0 quirk: sys.exit() in `freecadcmd -c` ends the process without flushing
         # Python's buffers, and a batch run's output would be lost.

@@ -94,6 +94,44 @@ class LockLost(Exception):
     stops answering."""
 
 
+class StopFlag:
+    """Set by SIGINT or SIGTERM (``stop_on_signals``): a plain flag. A signal handler runs in
+    the main thread between any two of its steps, so it must take no lock the main thread may
+    hold at that moment (a threading.Event's does: its set() would wait for ever on the lock
+    its own wait() holds)."""
+
+    def __init__(self):
+        self.requested = False
+
+    def set(self, *_):
+        self.requested = True
+
+    def is_set(self):
+        return self.requested
+
+    def wait(self, seconds):
+        """Sleep up to ``seconds``, in slices, ending early once a stop is requested."""
+        deadline = time.monotonic() + seconds
+        while not self.requested:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                break
+            time.sleep(min(left, 0.05))
+        return self.requested
+
+
+def stop_on_signals(flag):
+    """SIGINT and SIGTERM set ``flag`` instead of raising KeyboardInterrupt or ending the
+    process (main thread only). Returns the handlers replaced."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {number: signal.signal(number, flag.set)
+            for number in (signal.SIGINT, signal.SIGTERM)}
+
+
 @dataclass(frozen=True)
 class Scanned:
     """What a scan function may return in place of a bare ScanResult: the result and a note
@@ -438,8 +476,7 @@ class McsLink:
         if not had and time.monotonic() < self._retry_at:
             return False
         if had:
-            os.close(self._lock)  # a lock on a file no longer the folder's locks nothing
-            self._lock = None
+            self.close()  # a lock on a file no longer the folder's locks nothing
         before = self._folder_id
         try:
             self._take_lock()
@@ -474,9 +511,9 @@ class McsLink:
 
     def close(self):
         """Give the folder back (release its lock)."""
-        if self._lock is not None:
-            os.close(self._lock)  # closing the descriptor releases the flock
-            self._lock = None
+        fd, self._lock = self._lock, None  # never closed twice, even if interrupted here
+        if fd is not None:
+            os.close(fd)  # closing the descriptor releases the flock
 
     def __enter__(self):
         return self
@@ -557,10 +594,12 @@ class McsLink:
 
     # --- carrying out -------------------------------------------------------------------
 
-    def poll(self):
+    def poll(self, stop=None):
         """Carry out every pending command; returns the answers given (written to
         results.txt). After a fault of the folder, nothing new is carried out until the
-        answers already carried out are written."""
+        answers already carried out are written. ``stop()``, when given, is asked before each
+        command: once it is true, the commands still pending wait (for the next poll, or the
+        next link)."""
         answers = []
         if not self._ensure_lock():  # never carried out without the folder's lock
             return answers
@@ -568,6 +607,8 @@ class McsLink:
             return answers
         self._read_commands()
         while self._queue:
+            if stop is not None and stop():
+                break
             command = self._queue[0]
             if self._done is not None and command.seq <= self._done:
                 self._queue.popleft()  # answered meanwhile (a STOP answered during a scan)
