@@ -211,6 +211,35 @@ def test_soak_of_the_real_watcher_memory_flat(tmp_path, engine, count, limit_kib
     assert growth < limit_kib, samples
 
 
+@pytest.mark.parametrize("layout", ["calibration_drifted.toml", "slow_jab.toml", "paper.toml"])
+def test_document_engine_memory_is_flat_for_every_example_layout(tmp_path, layout):
+    """Issue 25: with free [[wafer]] placements (no carrier) the document engine read each
+    wafer's Placement property at every step, and FreeCAD 0.20 leaks ~80 B on each such read:
+    ~350 kB a command on calibration_drifted.toml at z_step 0.5 (8 free wafers, 541 steps).
+    RSS from after the 4th command to the 16th, SCF and SCS alternating."""
+    count = int(os.environ.get("WAFERSCAN_SOAK_LAYOUTS", "16"))
+    (tmp_path / "parameters.txt").write_text("z_step = 0.5\n")
+    (tmp_path / "commands.txt").write_text("")
+    process = watch(tmp_path, "--engine", "document", "--poll", "0.002", "--layout",
+                    ROOT / "resources" / "examples" / layout)
+    samples = {}
+    try:
+        for seq in range(1, count + 1):
+            with open(tmp_path / "commands.txt", "a") as handle:
+                handle.write(f"{seq} {'SCF' if seq % 2 else 'SCS'}\n")
+            assert wait_for(lambda: f"seq {seq} " in Path(process.out.name).read_text(), 300)
+            if seq in (4, count):
+                samples[seq] = rss_kib(process.pid)
+    finally:
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    assert process.returncode == 0, err
+    assert len(re.findall(r"^seq \d+ \w+: ok ", out, re.M)) == count, out[-2000:]
+    growth = (samples[count] - samples[4]) / (count - 4)
+    print(f"{layout}: {growth:+.1f} kB a command ({samples})")
+    assert growth < 50.0, (growth, samples)
+
+
 def test_the_layout_file_is_opened_again_when_it_changes(tmp_path):
     from waferscan.addon import paper_scenario
     layout = tmp_path / "layout.toml"
