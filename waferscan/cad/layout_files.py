@@ -13,6 +13,7 @@ from pathlib import Path
 import FreeCAD as App
 
 from ..core.errors import InputError
+from ..core.text_files import read_text, remove_stale_temporaries
 from ..core.scenario import key_line, read_scenario
 from .builder import build_document, document_preference_on
 
@@ -53,12 +54,17 @@ def open_layout(path):
             with quiet_console():
                 return build_document(layout, name=_document_name(path))
         except InputError as exc:
-            if getattr(exc, "key", None) is None or exc.source != "[sensor]":
+            robot = exc.source == "[robot]"  # a start pose the robot cannot be taught
+            if not robot and (getattr(exc, "key", None) is None or exc.source != "[sensor]"):
                 raise
-            # A [robot] that contradicts [sensor] (cad.robot.SensorConflict): name its line.
+            # A [robot] that contradicts [sensor] (cad.robot.SensorConflict), or one that
+            # cannot reach the beam from its base: name the line.
             for name in set(App.listDocuments()) - before:  # the half-built document
                 App.closeDocument(name)
-            text = path.read_bytes().decode("utf-8-sig")
+            text = read_text(path, "the scenario")
+            if robot:
+                raise InputError(path, key_line(text, "robot", "base"),
+                                 f"[robot] {exc.message}") from None
             raise InputError(path, key_line(text, "sensor", exc.key),
                              f"[sensor] {exc.message}") from None
     if suffix != ".fcstd":
@@ -120,19 +126,38 @@ def save_document(doc, path):
         raise InputError(path, None, "a FreeCAD layout is saved as .FCStd")
     if not path.parent.is_dir():
         raise InputError(path, None, f"no folder {path.parent}")
+    # A save killed before its rename left its temporary file (the pid is in its name): gone.
+    remove_stale_temporaries(path.parent, f".{path.stem}.", ".tmp.FCStd")
     temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
     try:
         with binary_shapes(), _origins_hidden(doc):
             doc.saveAs(str(temporary))
         if not App.GuiUp:
             _add_view_data(doc, temporary)
+        _flush_to_disk(temporary)  # the new file whole on disk before it takes the name
         os.replace(temporary, path)
+        _flush_to_disk(path.parent)  # and the rename itself
     except Exception as exc:  # FreeCAD reports a failed save as a plain Exception
         raise InputError(path, None, f"cannot write: {getattr(exc, 'strerror', None) or exc}") \
             from None
     finally:
         if temporary.exists():
             temporary.unlink()
+
+
+def _flush_to_disk(path):
+    """fsync a file or a folder (a folder that cannot be opened for it, on some shares, is
+    left to the system)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
 
 
 def _xml_attribute(text):

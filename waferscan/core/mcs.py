@@ -19,7 +19,7 @@ from pathlib import Path
 
 from . import recipe, schema, sensor_settings, slow_scan, validation
 from .errors import InputError
-from .text_files import read_text
+from .text_files import read_text, remove_stale_temporaries
 from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -82,6 +82,10 @@ def parse_parameters(text, source=PARAMETERS):
         key, sep, value = content.partition("=")
         key = key.strip().lower()
         if not sep or not key:
+            first = content.split(None, 1)[0].lower()
+            if first in PARAMETER_KEYS:  # "start_z 280": the key is recognised, and named
+                raise InputError(source, number, f"expected 'key = value', got {first} "
+                                                 "without '='")
             raise InputError(source, number, f"expected 'key = value' (a line of "
                                              f"{len(content):,} characters)")
         if key not in PARAMETER_KEYS:
@@ -350,14 +354,19 @@ def _mode_for(path):
         return 0o666 & ~umask
 
 
-def atomic_write_text(path, text, sync_folder=True):
+def atomic_write_text(path, text, sync_folder=True, remove_stale=True):
     """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
     half of one: write a temporary file beside it, flush it to disk, then rename over.
     ``sync_folder``: flush the folder too (False: the caller does, as the MCS link does to
     report a failure of its own)."""
     path = Path(path)
     mode = _mode_for(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    # The pid in the name: a writer killed before its rename leaves a file the next writer of
+    # this path removes (remove_stale_temporaries), never one a live writer still uses.
+    if remove_stale:
+        remove_stale_temporaries(path.parent, f".{path.name}.", ".tmp")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".tmp",
+                               dir=path.parent)
     try:
         try:
             os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode, or the umask's

@@ -730,7 +730,8 @@ class McsLink:
         """results.txt replaced by ``text`` atomically and durably (file and folder flushed);
         then the history's link to it. Raises OSError when results.txt was not replaced."""
         target = self.folder / RESULTS
-        atomic_write_text(target, text, sync_folder=False)  # the folder's flush: below
+        # the folder's flush: below; leftovers are removed once, at the start, under the lock
+        atomic_write_text(target, text, sync_folder=False, remove_stale=False)
         self._done = seq
         try:
             dir_fd = os.open(self.folder, os.O_RDONLY | os.O_DIRECTORY)

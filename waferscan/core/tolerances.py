@@ -114,13 +114,10 @@ class Tolerances:
 
 def read_tolerances(path):
     """Read and check a TOL.toml file (InputError with file and line when it is wrong)."""
+    from .text_files import read_text
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise InputError(path, None, f"cannot read the tolerance file: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(path, None, "the tolerance file is not UTF-8 text") from None
+    text = read_text(path, "the tolerance file")  # a regular file, bounded
     return parse_tolerances(text, str(path))
 
 
