@@ -193,3 +193,44 @@ def test_store_flushes_the_layout_and_its_folder_to_disk(tmp_path):
     assert renames, calls
     assert any("fsync(" in line for line in calls[:renames[-1]])
     assert any("fsync(" in line for line in calls[renames[-1] + 1:])
+
+
+def rewrite_property(src, dst, prop, value):
+    """A copy of the .FCStd with one property's value written as ``value`` in Document.xml."""
+    import re
+    import zipfile
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w", zipfile.ZIP_DEFLATED) as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename == "Document.xml":
+                text, count = re.subn(rf'(<Property name="{prop}"[^>]*>\s*<\w+ value=")[^"]*"',
+                                      rf'\g<1>{value}"', data.decode(), count=1)
+                assert count == 1
+                data = text.encode()
+            zout.writestr(item, data)
+
+
+@pytest.fixture(scope="module")
+def paper_layout(tmp_path_factory):
+    layout = tmp_path_factory.mktemp("layout") / "paper.FCStd"
+    assert run("layout", PAPER, "-o", layout).returncode == 0
+    return layout
+
+
+@pytest.mark.parametrize("prop, value, message", [
+    ("SlotCount", "1e3", "Document.xml:{line}: LP1.SlotCount = '1e3': not a whole number"),
+    ("ThicknessCorrection", "1e-320", "ScanSettings.ThicknessCorrection: must be from 0.01 to "
+                                      "100 (the measured thickness over the true one), got "
+                                      "9.99989e-321"),
+    ("WaferThickness", "1e-320", "LP1.WaferThickness: the wafer thickness must be at least "
+                                 "1e-06 mm (1 nm), got 9.99989e-321"),
+])
+def test_impossible_values_in_a_layout_file_are_refused(tmp_path, paper_layout, prop, value,
+                                                        message):
+    import zipfile
+    bad = tmp_path / "bad.FCStd"
+    rewrite_property(paper_layout, bad, prop, value)
+    text = zipfile.ZipFile(bad).read("Document.xml").decode()
+    line = text[:text.index(f'value="{value}"')].count("\n") + 1
+    done = run("scan", bad)
+    one_error_line(done, f"{bad}: {message.format(line=line)}")

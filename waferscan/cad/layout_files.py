@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import ctypes
 import os
+import re
 import sys
 import zipfile
 from contextlib import contextmanager
@@ -71,11 +72,42 @@ def open_layout(path):
         raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
     if not path.is_file():
         raise InputError(path, None, "no such file")
+    check_whole_numbers(path)
     try:
         with quiet_console():
             return App.openDocument(str(path.resolve()))
     except Exception as exc:  # FreeCAD raises plain Exception/IOError for unreadable files
         raise InputError(path, None, f"FreeCAD cannot open it: {exc}") from None
+
+
+_INTEGER_PROPERTY = re.compile(r'<Property name="([^"]{1,200})" type="App::PropertyInteger"'
+                               r'[^>]{0,2000}>\s*<Integer value="([^"]{0,200})"')
+_OBJECT = '<Object name="'
+MAX_DOCUMENT_XML = 1 << 30  # bytes of Document.xml checked; a larger one is FreeCAD's to read
+
+
+def check_whole_numbers(path):
+    """InputError when an integer property of the .FCStd's Document.xml is not written as a
+    whole number: FreeCAD reads ``SlotCount "1e3"`` as 1 (the digits before the first other
+    character), silently. A file that is not a readable .FCStd is left to FreeCAD's own error."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            info = archive.getinfo("Document.xml")
+            if info.file_size > MAX_DOCUMENT_XML:
+                return
+            text = archive.read(info).decode("utf-8", errors="replace")
+    except (OSError, KeyError, zipfile.BadZipFile, RuntimeError, ValueError):
+        return
+    for match in _INTEGER_PROPERTY.finditer(text):
+        value = match.group(2)
+        if re.fullmatch(r"-?[0-9]{1,18}", value):
+            continue
+        start = text.rfind(_OBJECT, 0, match.start())
+        owner = text[start + len(_OBJECT):text.find('"', start + len(_OBJECT))][:60] \
+            if start >= 0 else "?"
+        line = text.count("\n", 0, match.start(2)) + 1
+        raise InputError(path, None, f"Document.xml:{line}: {owner}.{match.group(1)} = "
+                                     f"{value[:40]!r}: not a whole number")
 
 
 def _document_name(path):
