@@ -187,19 +187,51 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         cluster = local_cluster(workers)
         client = Client(cluster)
     else:
-        try:
-            client = Client(scheduler, timeout=CONNECT_TIMEOUT)
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise InputError("--scheduler", None,
-                             f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+        client = _connect(Client, scheduler)
         workers = max(1, len(client.scheduler_info().get("workers", {})))
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
         return _sweep(layout, tolerances, n, seed, rules, count, client, progress)
+    except KeyboardInterrupt:
+        # Ctrl-C: the command says so in one line (cli.main); the cluster torn down mid-task
+        # logs its cancelled coroutines as ERROR tracebacks, which are not the user's news.
+        _silence_dask_logs()
+        raise
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _silence_dask_logs():
+    import logging
+
+    for name in ("distributed", "distributed.scheduler", "distributed.nanny",
+                 "distributed.core", "distributed.worker", "distributed.client",
+                 "distributed.comm", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+def _connect(Client, scheduler):
+    """A Client of the scheduler at ``scheduler``, or one InputError line saying why not (an
+    address Dask cannot use: tls:// without its certificates, ucx:// without UCX)."""
+    scheme = scheduler.split("://", 1)[0].lower() if "://" in scheduler else "tcp"
+    if scheme == "ucx":
+        try:
+            import ucp  # noqa: F401 (ucx-py, what Dask's ucx:// needs)
+        except ImportError:
+            raise InputError("--scheduler", None, f"{scheduler}: ucx:// needs UCX (the ucx-py "
+                             "package), which is not installed; use tcp://") from None
+    try:
+        return Client(scheduler, timeout=CONNECT_TIMEOUT)
+    except TypeError as exc:  # tls:// without Dask's TLS configuration, among others
+        hint = (" (tls:// needs Dask's TLS configuration: distributed.comm.tls ca-file, "
+                "client cert and key)" if scheme in ("tls", "wss") else "")
+        raise InputError("--scheduler", None, f"cannot use the Dask scheduler at {scheduler}: "
+                         f"{exc}{hint}") from None
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError("--scheduler", None,
+                         f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
 
 
 def _sweep(layout, tolerances, n, seed, rules, count, client, progress):
