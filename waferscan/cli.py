@@ -336,13 +336,14 @@ def cmd_sweep(args):
             progress=progress)
     finally:
         progress.close()
+    # The summary first: a set of files that cannot be written loses nothing computed.
+    if args.json:
+        print(json.dumps(summary, indent=2), flush=True)
+    else:
+        print(tolerance_study.format_summary(summary), flush=True)
     if args.out:
         tolerance_study.write_outputs(summary, args.out, histograms)
-    if args.json:
-        print(json.dumps(summary, indent=2))
-    else:
-        print(tolerance_study.format_summary(summary))
-        if args.out:
+        if not args.json:
             print(f"\nsummary.json, CSV tables and PNG plots written to {Path(args.out)}/")
     return 0
 

@@ -81,3 +81,51 @@ def test_ctrl_c_mid_sweep_is_one_line_and_ends_every_process(tmp_path):
     assert lines[-1] == "waferscan: interrupted", err[-3000:]
     assert all(line.startswith("sweep: ") for line in lines[:-1]), err[-3000:]
     assert out == ""
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 48 kB tmpfs: summary.json and the CSV tables fit, the PNG plots do not (root only)."""
+    mount = tmp_path / "disk"
+    mount.mkdir()
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=48k", "tmpfs", str(mount)],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {done.stderr.strip()}")
+    yield mount
+    subprocess.run(["umount", "-l", str(mount)], check=True)
+
+
+def test_a_full_disk_writes_no_part_of_the_set_and_the_summary_is_still_printed(tmp_path,
+                                                                                 small_disk):
+    out = small_disk / "out"
+    done = subprocess.run(sweep(tmp_path, "-n", "300", "--workers", "0", "--out", out),
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2, done.stderr[-3000:]
+    assert done.stderr.splitlines()[-1] == (
+        f"waferscan: error: {out}: cannot write: No space left on device; nothing written (the "
+        "summary is on the standard output)"), done.stderr[-3000:]
+    assert "Traceback" not in done.stderr
+    assert "300" in done.stdout and "present" in done.stdout  # the summary, computed, printed
+    assert os.listdir(small_disk) == []  # no summary.json without its plots, no temporary
+
+
+def test_a_rerun_into_the_same_out_replaces_the_set_as_a_whole(tmp_path):
+    import json
+    out = tmp_path / "out"
+    for seed in (1, 2):
+        done = subprocess.run(sweep(tmp_path, "-n", "300", "--workers", "0", "--seed", seed,
+                                    "--out", out), cwd=ROOT, capture_output=True, text=True,
+                              timeout=300)
+        assert done.returncode == 0, done.stderr[-3000:]
+        assert json.loads((out / "summary.json").read_text())["seed"] == seed
+    assert sorted(os.listdir(out)) == sorted(["summary.json", "confusion.csv", "rates.csv",
+                                              "margins.csv", "confusion.png", "margins.png"])
+    assert sorted(os.listdir(tmp_path)) == ["TOL.toml", "out"]  # no temporary left
+    (out / "notes.txt").write_text("mine\n")
+    done = subprocess.run(sweep(tmp_path, "-n", "300", "--workers", "0", "--out", out),
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2 and done.stdout == ""  # refused before the sweep
+    assert done.stderr == (f"waferscan: error: {out}: holds other files than a sweep's "
+                           "('notes.txt'): --out is replaced as a whole; name a new folder\n")
+    assert (out / "notes.txt").read_text() == "mine\n"
