@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from .core.errors import InputError
 from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, Parameters, atomic_write_text,
                        format_parameters, format_results, read_parameters)
 from .core.model import DIRECTIONS, MODES
+from .core.text_files import check_output_path
 
 PROG = "waferscan"
 
@@ -41,7 +43,19 @@ class _Progress:
             sys.stderr.write("\n")
 
 
-def _write(path, text):
+def _check_out(path, option="--out"):
+    """Refuse an output path that is not a regular file or a new path (a device node, a FIFO,
+    a symlink, a folder) before any work is done; ``-`` is the standard output."""
+    if path is not None and str(path) != "-":
+        check_output_path(path, option)
+
+
+def _write(path, text, option="--out"):
+    if str(path) == "-":
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return
+    check_output_path(path, option)  # again: the path may have changed while we worked
     try:
         atomic_write_text(path, text)
     except OSError as exc:
@@ -66,6 +80,8 @@ def _scan_input(path, engine, parameters=None, store=False):
     if store and Path(path).suffix.lower() != ".fcstd":
         raise InputError(path, None, "--store keeps the results in a layout .FCStd; "
                                      "this is a scenario (make a layout with waferscan layout)")
+    if store:
+        check_output_path(path, "--store")  # the layout is replaced: a regular file only
     progress = _Progress(f"scanning ({engine})")
     with opened_layout(path) as doc:
         try:
@@ -128,6 +144,9 @@ def cmd_demo(args):
     layout = result.layout
     if args.out:
         out = Path(args.out)
+        for name in (PARAMETERS, COMMANDS, RESULTS):
+            if out.is_dir():
+                _check_out(out / name, "--out")
         try:
             out.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -162,10 +181,12 @@ def cmd_demo(args):
 
 
 def cmd_scan(args):
+    _check_out(args.out)  # before the scan: a device, FIFO or symlink there wastes no time
     if args.plot:
         from .signal_plot import check_plot_path
 
         check_plot_path(args.plot)  # before the scan: a wrong suffix wastes no time
+        _check_out(args.plot, "--plot")
     parameters = read_parameters(args.params) if args.params else None
     overrides = {k: v for k, v in (("mode", args.mode), ("direction", args.direction)) if v}
     if overrides:
@@ -178,7 +199,11 @@ def cmd_scan(args):
     if args.plot:
         from .signal_plot import plot_signal  # matplotlib only when a plot is asked for
 
+        _check_out(args.plot, "--plot")
         plot_signal(result, args.plot)
+    if args.out == "-":  # results.txt on stdout is the output: no report beside it
+        _warn(result)
+        return 0
     _print_result(result, args.json)
     if not args.json:  # SPEC §13: the jab and sweep per pocket, the two modes' durations
         if result.pockets:
@@ -195,6 +220,7 @@ def cmd_calibrate(args):
     from .cad.document_calibration import calibrate_input
     from .core.calibration import EXIT_CODES, CalibrationError, format_calibration
 
+    _check_out(args.out)  # before the calibration
     parameters = read_parameters(args.params) if args.params else None
     try:
         calibration = calibrate_input(args.input, parameters, args.engine)
@@ -205,6 +231,9 @@ def cmd_calibrate(args):
         return EXIT_CODES[exc.kind]
     if args.out:
         _write(args.out, format_parameters(calibration.after))
+        if args.out == "-":  # the recipe on stdout is the output
+            _warn(calibration.check)
+            return 0
     if args.json:
         print(json.dumps(report.calibration_dict(calibration), indent=2))
         _warn(calibration.check)
@@ -219,6 +248,8 @@ def cmd_calibrate(args):
 def cmd_layout(args):
     from .cad.layout_files import opened_layout, save_document
 
+    if os.path.lexists(args.output):  # a new path's folder is save_document's to check
+        check_output_path(args.output, "--output")
     with opened_layout(args.scenario) as doc:
         save_document(doc, args.output)
     print(f"{args.output}: layout of {args.scenario}")
@@ -240,13 +271,27 @@ def cmd_crosscheck(args):
 
 
 def cmd_watch(args):
-    from .cad.mcs_watch import watch
+    import signal
 
-    folder = Path(args.folder)
-    if not folder.is_dir():
-        raise InputError(folder, None, "no such folder")
-    return watch(folder, Path(args.layout) if args.layout else paper_scenario(), args.engine,
-                 args.poll, once=args.once)
+    from .core.mcs_link import StopFlag, stop_on_signals
+
+    # Ctrl-C and SIGTERM stop the watcher from here on, FreeCAD's loading included: a
+    # KeyboardInterrupt inside FreeCAD's start leaves its module half made.
+    stopping = StopFlag()
+    stop_on_signals(stopping)
+    try:
+        from .cad.mcs_watch import watch
+
+        folder = Path(args.folder)
+        if not folder.is_dir():
+            raise InputError(folder, None, "no such folder")
+        return watch(folder, Path(args.layout) if args.layout else paper_scenario(),
+                     args.engine, args.poll, once=args.once, stopping=stopping)
+    finally:
+        # The process ends with the watch: a further Ctrl-C while it exits is ignored (Python
+        # would give SIGINT back its default action while it shuts down).
+        for number in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(number, signal.SIG_IGN)
 
 
 def _poll_seconds(text):
@@ -292,13 +337,14 @@ def cmd_sweep(args):
             progress=progress)
     finally:
         progress.close()
+    # The summary first: a set of files that cannot be written loses nothing computed.
+    if args.json:
+        print(json.dumps(summary, indent=2), flush=True)
+    else:
+        print(tolerance_study.format_summary(summary), flush=True)
     if args.out:
         tolerance_study.write_outputs(summary, args.out, histograms)
-    if args.json:
-        print(json.dumps(summary, indent=2))
-    else:
-        print(tolerance_study.format_summary(summary))
-        if args.out:
+        if not args.json:
             print(f"\nsummary.json, CSV tables and PNG plots written to {Path(args.out)}/")
     return 0
 
@@ -352,7 +398,8 @@ def build_parser():
     scan.add_argument("--engine", choices=engines, default="analytic")
     scan.add_argument("--mode", choices=MODES)
     scan.add_argument("--direction", choices=DIRECTIONS)
-    scan.add_argument("--out", metavar="FILE", help="write the results in results.txt format")
+    scan.add_argument("--out", metavar="FILE", help="write the results in results.txt format "
+                      "(a regular file or a new path; - for the standard output)")
     scan.add_argument("--json", action="store_true", help="print one JSON object")
     scan.add_argument("--plot", metavar="FILE", help="draw the sensor's signal b(z), thresholds, "
                       "edges and slot windows to a .png or .svg")
@@ -438,6 +485,9 @@ def main(argv=None):
         return 2
     except BrokenPipeError:
         return 0
+    except KeyboardInterrupt:  # Ctrl-C where a command has no stop of its own: one line
+        sys.stderr.write(f"{PROG}: interrupted\n")
+        return 130
     finally:
         # FreeCAD 1.0 quirk: sys.exit() in `freecadcmd -c` ends the process without flushing
         # Python's buffers, and a batch run's output would be lost.

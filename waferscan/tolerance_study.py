@@ -12,6 +12,8 @@ import csv
 import io
 import json
 import os
+import shutil
+import stat
 import sys
 import tempfile
 from pathlib import Path
@@ -187,19 +189,51 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         cluster = local_cluster(workers)
         client = Client(cluster)
     else:
-        try:
-            client = Client(scheduler, timeout=CONNECT_TIMEOUT)
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise InputError("--scheduler", None,
-                             f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+        client = _connect(Client, scheduler)
         workers = max(1, len(client.scheduler_info().get("workers", {})))
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
         return _sweep(layout, tolerances, n, seed, rules, count, client, progress)
+    except KeyboardInterrupt:
+        # Ctrl-C: the command says so in one line (cli.main); the cluster torn down mid-task
+        # logs its cancelled coroutines as ERROR tracebacks, which are not the user's news.
+        _silence_dask_logs()
+        raise
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _silence_dask_logs():
+    import logging
+
+    for name in ("distributed", "distributed.scheduler", "distributed.nanny",
+                 "distributed.core", "distributed.worker", "distributed.client",
+                 "distributed.comm", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+def _connect(Client, scheduler):
+    """A Client of the scheduler at ``scheduler``, or one InputError line saying why not (an
+    address Dask cannot use: tls:// without its certificates, ucx:// without UCX)."""
+    scheme = scheduler.split("://", 1)[0].lower() if "://" in scheduler else "tcp"
+    if scheme == "ucx":
+        try:
+            import ucp  # noqa: F401 (ucx-py, what Dask's ucx:// needs)
+        except ImportError:
+            raise InputError("--scheduler", None, f"{scheduler}: ucx:// needs UCX (the ucx-py "
+                             "package), which is not installed; use tcp://") from None
+    try:
+        return Client(scheduler, timeout=CONNECT_TIMEOUT)
+    except TypeError as exc:  # tls:// without Dask's TLS configuration, among others
+        hint = (" (tls:// needs Dask's TLS configuration: distributed.comm.tls ca-file, "
+                "client cert and key)" if scheme in ("tls", "wss") else "")
+        raise InputError("--scheduler", None, f"cannot use the Dask scheduler at {scheduler}: "
+                         f"{exc}{hint}") from None
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError("--scheduler", None,
+                         f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
 
 
 def _sweep(layout, tolerances, n, seed, rules, count, client, progress):
@@ -276,25 +310,48 @@ def _atomic_png(figure, path):
         raise
 
 
+OUTPUT_NAMES = ("summary.json", "confusion.csv", "rates.csv", "margins.csv", "confusion.png",
+                "margins.png")
+
+
 def output_folder(folder):
-    """The sweep's output folder, made if needed: called before the sweep too, so that a path
-    that cannot be a folder or cannot be written in is refused before the work, not after it
-    (InputError)."""
+    """Check the sweep's output folder before the sweep, so that a path that cannot be one is
+    refused before the work, not after it (InputError): a new path in a folder that can be
+    written in, or a folder holding nothing but a sweep's outputs (it is replaced as a whole).
+    Nothing is made yet."""
     folder = Path(folder)
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        st = os.stat(folder, follow_symlinks=False)
+    except FileNotFoundError:
+        parent = folder.parent
+        if not parent.is_dir():
+            raise InputError(folder, None, f"cannot make the folder: no folder {parent}") \
+                from None
+        if not os.access(parent, os.W_OK | os.X_OK):
+            raise InputError(folder, None, f"cannot make the folder: cannot write in {parent}")
+        return folder
     except OSError as exc:
         raise InputError(folder, None, f"cannot make the folder: {exc.strerror}") from None
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise InputError(folder, None, "cannot write in this folder")
+    if not stat.S_ISDIR(st.st_mode):
+        raise InputError(folder, None, "cannot make the folder: File exists")
+    others = sorted(set(os.listdir(folder)) - set(OUTPUT_NAMES))
+    if others:
+        raise InputError(folder, None, f"holds other files than a sweep's ({others[0]!r}"
+                                       f"{' …' if len(others) > 1 else ''}): --out is replaced "
+                                       "as a whole; name a new folder")
+    if not os.access(folder.parent, os.W_OK | os.X_OK):
+        raise InputError(folder, None, f"cannot replace it: cannot write in {folder.parent}")
     return folder
 
 
 def write_outputs(summary, folder, histograms=None):
-    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png in
-    ``folder`` (made if needed); returns the paths written."""
+    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png as
+    one set: written in a temporary folder beside ``folder``, then renamed into place (an
+    earlier sweep's set there is replaced as a whole: never one file from each). Returns the
+    paths written; InputError (nothing at ``folder`` changed) when they cannot be."""
     folder = output_folder(folder)
-    written = []
+    temporary = folder.with_name(f".{folder.name}.{os.getpid()}.tmp")
+    old = folder.with_name(f".{folder.name}.{os.getpid()}.old")
     files = {
         "summary.json": json.dumps(summary, indent=2) + "\n",
         "confusion.csv": _csv(confusion_rows(summary)),
@@ -302,13 +359,27 @@ def write_outputs(summary, folder, histograms=None):
         "margins.csv": _csv(margin_rows(summary)),
     }
     try:
+        shutil.rmtree(temporary, ignore_errors=True)
+        os.mkdir(temporary)
         for name, text in files.items():
-            atomic_write_text(folder / name, text)
-            written.append(folder / name)
-        written += plot_summary(summary, folder, histograms)
+            atomic_write_text(temporary / name, text)
+        plot_summary(summary, temporary, histograms)
+        if folder.exists():
+            os.rename(folder, old)
+            try:
+                os.rename(temporary, folder)
+            except OSError:
+                os.rename(old, folder)  # put the earlier set back
+                raise
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.rename(temporary, folder)
     except OSError as exc:
-        raise InputError(folder, None, f"cannot write: {exc.strerror}") from None
-    return written
+        raise InputError(folder, None, f"cannot write: {exc.strerror}; nothing written "
+                                       "(the summary is on the standard output)") from None
+    finally:
+        shutil.rmtree(temporary, ignore_errors=True)
+    return [folder / name for name in OUTPUT_NAMES]
 
 
 def plot_summary(summary, folder, histograms=None):

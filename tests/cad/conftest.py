@@ -3,6 +3,11 @@ missing: the set-up installs it, so its absence is a failure."""
 
 import sys
 
+# This checkout's package, imported before FreeCAD: FreeCAD's start puts its user Mod folders
+# first on sys.path, and a Mod/WaferScan symlink to another checkout (FREECAD-NOTES) would
+# otherwise be the waferscan these tests import.
+import waferscan  # noqa: E402,F401
+
 FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 if FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)

@@ -136,3 +136,52 @@ def test_the_layout_is_read_once_and_again_after_a_change(doc, tmp_path, monkeyp
     finally:
         link.close()
         scan.close()
+
+
+# --- issue 25 ----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("engine", ["document", "brep"])
+def test_cal_on_a_watcher_with_a_document_engine_is_answered_as_bad_input(doc, tmp_path,
+                                                                           engine):
+    reports = []
+    (tmp_path / "commands.txt").write_text("1 CAL\n2 SCF\n")
+    scan = document_scanner(doc, tmp_path, engine)
+    link = McsLink(tmp_path, scan, log=lambda text: None, report=reports.append)
+    try:
+        answered = [(a.seq, a.status, a.code or a.message) for a in link.poll()]
+    finally:
+        link.close()
+        scan.close()
+    assert answered == [
+        (1, "error", f"{tmp_path / 'commands.txt'}:1: CAL calibrates with the core engines "
+                     "only (analytic, loop, paper, vector), as `waferscan calibrate` does; this "
+                     f"watcher scans with the {engine} engine: start one with --engine analytic "
+                     "to calibrate"),
+        (2, "ok", CODE)]
+    assert reports == []  # no internal error, no traceback
+
+
+LONG = "x" * 60000
+
+
+@pytest.mark.parametrize("text, message", [
+    (f"{LONG}\n", "1: expected 'key = value' (a line of 60,000 characters)"),
+    (f"{LONG} = 1\n", "1: unknown key (60,000 characters) (known: "),
+    (f"z_step = {LONG}\n", "1: z_step: a value of 60,000 characters: not read"),
+    (f"carrier = {LONG}\n", "1: carrier: a value of 60,000 characters: not read"),
+    ("root:$6$saltsalt$hashhashhash:19000:0:99999:7:::\n",
+     "1: expected 'key = value' (a line of 48 characters)"),
+    ("secret_token = hunter2\n", "1: unknown key 'secret_token' (known: "),
+    ("z_stp = 0.5\n", "1: unknown key 'z_stp' (known: "),
+    ("z_step = abc\n", "1: z_step: expected a number, got 'abc'"),
+])
+def test_a_bad_parameters_line_is_echoed_bounded_and_only_as_far_as_recognised(doc, tmp_path,
+                                                                               text, message):
+    (tmp_path / "parameters.txt").write_text(text)
+    (answer,) = answers(doc, tmp_path, "1 SCF\n")
+    assert answer[:2] == (1, "error")
+    assert answer[2].startswith(f"{tmp_path / 'parameters.txt'}:{message}"), answer[2]
+    assert len(answer[2]) < 2000
+    results = (tmp_path / "results.txt").read_text()
+    assert "hunter2" not in results and "saltsalt" not in results and LONG not in results
+    assert os.path.getsize(tmp_path / "results.txt") < 5000

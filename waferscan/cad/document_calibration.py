@@ -6,6 +6,7 @@ of the layout read."""
 from __future__ import annotations
 
 from ..core.calibration import calibrate
+from ..core.errors import InputError
 from ..core.engine_choice import check_engine
 from ..core.mcs import apply_parameters
 from ..core.scan import scan_layout
@@ -25,8 +26,27 @@ def calibrate_document(doc, parameters=None, engine="analytic", progress=None, r
         layout = read_layout(doc, DocumentScene.of(doc))
     if parameters is not None:
         layout = apply_parameters(layout, parameters)
-    check_engine(layout, engine, source or doc.FileName or doc.Label, parameters)
-    return calibrate(layout, lambda scanned: scan_layout(scanned, engine, progress=progress))
+    source = source or doc.FileName or doc.Label
+    check_engine(layout, engine, source, parameters)
+    try:
+        return calibrate(layout, lambda scanned: scan_layout(scanned, engine, progress=progress))
+    except InputError as exc:
+        if exc.source != "z_step":
+            raise
+        # The core names the key only: the file and line that set z_step are named here.
+        if parameters is not None and "z_step" in parameters.values:
+            raise InputError(parameters.source, parameters.lines.get("z_step"),
+                             f"z_step: {exc.message}") from None
+        line = None
+        if str(source).lower().endswith(".toml"):
+            from ..core.scenario import key_line
+            from ..core.text_files import read_text
+
+            try:
+                line = key_line(read_text(source), "scan", "z_step")
+            except InputError:
+                pass
+        raise InputError(source, line, f"z_step: {exc.message}") from None
 
 
 def calibrate_input(path, parameters=None, engine="analytic"):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import ctypes
 import os
+import re
 import sys
 import zipfile
 from contextlib import contextmanager
@@ -13,6 +14,7 @@ from pathlib import Path
 import FreeCAD as App
 
 from ..core.errors import InputError
+from ..core.text_files import read_text, remove_stale_temporaries
 from ..core.scenario import key_line, read_scenario
 from .builder import build_document, document_preference_on
 
@@ -53,23 +55,59 @@ def open_layout(path):
             with quiet_console():
                 return build_document(layout, name=_document_name(path))
         except InputError as exc:
-            if getattr(exc, "key", None) is None or exc.source != "[sensor]":
+            robot = exc.source == "[robot]"  # a start pose the robot cannot be taught
+            if not robot and (getattr(exc, "key", None) is None or exc.source != "[sensor]"):
                 raise
-            # A [robot] that contradicts [sensor] (cad.robot.SensorConflict): name its line.
+            # A [robot] that contradicts [sensor] (cad.robot.SensorConflict), or one that
+            # cannot reach the beam from its base: name the line.
             for name in set(App.listDocuments()) - before:  # the half-built document
                 App.closeDocument(name)
-            text = path.read_bytes().decode("utf-8-sig")
+            text = read_text(path, "the scenario")
+            if robot:
+                raise InputError(path, key_line(text, "robot", "base"),
+                                 f"[robot] {exc.message}") from None
             raise InputError(path, key_line(text, "sensor", exc.key),
                              f"[sensor] {exc.message}") from None
     if suffix != ".fcstd":
         raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
     if not path.is_file():
         raise InputError(path, None, "no such file")
+    check_whole_numbers(path)
     try:
         with quiet_console():
             return App.openDocument(str(path.resolve()))
     except Exception as exc:  # FreeCAD raises plain Exception/IOError for unreadable files
         raise InputError(path, None, f"FreeCAD cannot open it: {exc}") from None
+
+
+_INTEGER_PROPERTY = re.compile(r'<Property name="([^"]{1,200})" type="App::PropertyInteger"'
+                               r'[^>]{0,2000}>\s*<Integer value="([^"]{0,200})"')
+_OBJECT = '<Object name="'
+MAX_DOCUMENT_XML = 1 << 30  # bytes of Document.xml checked; a larger one is FreeCAD's to read
+
+
+def check_whole_numbers(path):
+    """InputError when an integer property of the .FCStd's Document.xml is not written as a
+    whole number: FreeCAD reads ``SlotCount "1e3"`` as 1 (the digits before the first other
+    character), silently. A file that is not a readable .FCStd is left to FreeCAD's own error."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            info = archive.getinfo("Document.xml")
+            if info.file_size > MAX_DOCUMENT_XML:
+                return
+            text = archive.read(info).decode("utf-8", errors="replace")
+    except (OSError, KeyError, zipfile.BadZipFile, RuntimeError, ValueError):
+        return
+    for match in _INTEGER_PROPERTY.finditer(text):
+        value = match.group(2)
+        if re.fullmatch(r"-?[0-9]{1,18}", value):
+            continue
+        start = text.rfind(_OBJECT, 0, match.start())
+        owner = text[start + len(_OBJECT):text.find('"', start + len(_OBJECT))][:60] \
+            if start >= 0 else "?"
+        line = text.count("\n", 0, match.start(2)) + 1
+        raise InputError(path, None, f"Document.xml:{line}: {owner}.{match.group(1)} = "
+                                     f"{value[:40]!r}: not a whole number")
 
 
 def _document_name(path):
@@ -120,19 +158,38 @@ def save_document(doc, path):
         raise InputError(path, None, "a FreeCAD layout is saved as .FCStd")
     if not path.parent.is_dir():
         raise InputError(path, None, f"no folder {path.parent}")
+    # A save killed before its rename left its temporary file (the pid is in its name): gone.
+    remove_stale_temporaries(path.parent, f".{path.stem}.", ".tmp.FCStd")
     temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
     try:
         with binary_shapes(), _origins_hidden(doc):
             doc.saveAs(str(temporary))
         if not App.GuiUp:
             _add_view_data(doc, temporary)
+        _flush_to_disk(temporary)  # the new file whole on disk before it takes the name
         os.replace(temporary, path)
+        _flush_to_disk(path.parent)  # and the rename itself
     except Exception as exc:  # FreeCAD reports a failed save as a plain Exception
         raise InputError(path, None, f"cannot write: {getattr(exc, 'strerror', None) or exc}") \
             from None
     finally:
         if temporary.exists():
             temporary.unlink()
+
+
+def _flush_to_disk(path):
+    """fsync a file or a folder (a folder that cannot be opened for it, on some shares, is
+    left to the system)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
 
 
 def _xml_attribute(text):

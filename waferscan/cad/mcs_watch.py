@@ -13,16 +13,17 @@ from __future__ import annotations
 import os
 import signal
 import sys
-import threading
 import time
 import traceback
 from pathlib import Path
 
 import FreeCAD as App
 
+from ..core.engines import ENGINES
 from ..core.errors import InputError
 from ..core.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
-from ..core.mcs_link import McsLink, Scanned, read_regular_text
+from ..core.mcs_link import (LockLost, McsLink, Scanned, StopFlag, read_regular_text,
+                              stop_on_signals)
 from .document_scan import scan_document
 from .reader import DocumentScene, read_layout
 
@@ -106,6 +107,11 @@ def document_scanner(doc, folder, engine="analytic"):
         path = folder / PARAMETERS
         read = read_link_parameters(path)
         if command.name == "CAL":  # SPEC §11: the recipe from the reference wafers
+            if engine not in ENGINES:  # as `waferscan calibrate --engine` offers them
+                raise InputError(folder / COMMANDS, command.line, "CAL calibrates with the core "
+                                 f"engines only ({', '.join(sorted(ENGINES))}), as `waferscan "
+                                 f"calibrate` does; this watcher scans with the {engine} "
+                                 "engine: start one with --engine analytic to calibrate")
             return _calibrated(doc, cache, read, engine, should_stop)
         note = mode_note(read, command.name)
         parameters = read or Parameters({}, {}, str(path))
@@ -168,25 +174,16 @@ class _FailingScanner:
         pass
 
 
-def _stop_on_signals(stopping):
-    """Ctrl-C and SIGTERM set ``stopping`` instead of raising KeyboardInterrupt. FreeCAD quirk: a
-    KeyboardInterrupt raised inside a document observer's callback (FreeCAD calls it from C++
-    while a scan moves objects) is swallowed by FreeCAD, so a watcher interrupted there would
-    never stop. The loop checks the flag between polls. Returns the handlers replaced."""
-    if threading.current_thread() is not threading.main_thread():
-        return {}
-    handled = {}
-    for number in (signal.SIGINT, signal.SIGTERM):
-        handled[number] = signal.signal(number, lambda *_: stopping.set())
-    return handled
-
-
-def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
+def watch(folder, layout_path, engine="analytic", poll=0.01, once=False, stopping=None):
     """``waferscan watch``: the link on ``folder`` with the layout at ``layout_path`` (a
     scenario or a .FCStd), answers logged on stdout, faults on stderr. The layout is opened
     again when its file changes (a new one that cannot be opened answers every scan with the
     reason until it is fixed). Returns the exit status; InputError when the layout cannot be
-    opened at the start or another link holds the folder."""
+    opened at the start or another link holds the folder. ``stopping``: a StopFlag whose
+    signal handlers the caller installed (the command line, before FreeCAD loads); without
+    one, SIGINT and SIGTERM stop the watch while it runs (FreeCAD quirk: a KeyboardInterrupt
+    raised inside a document observer's callback is swallowed by FreeCAD, so a watcher
+    interrupted there would never stop)."""
     from .layout_files import open_layout
 
     def out(text):
@@ -204,18 +201,23 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
         scanner.close()
         App.closeDocument(doc.Name)
         raise
-    stopping = threading.Event()
-    handled = _stop_on_signals(stopping)
+    handled = {}
+    if stopping is None:
+        stopping = StopFlag()
+        handled = stop_on_signals(stopping)
     try:
         if once:
-            link.poll()
-            return 1 if link.unanswered else 0  # the fault is on stderr
+            link.poll(stop=stopping.is_set)
+            # the fault (unwritten answers, a folder that cannot be locked) is on stderr
+            return 1 if link.unanswered or not link.locked else 0
         out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
         checked = time.monotonic()
         faults = set()
         while not stopping.is_set():
             try:
-                link.poll()
+                link.poll(stop=stopping.is_set)  # a stop: after the command in hand
+            except LockLost:
+                raise
             except Exception as exc:  # a fault of ours: said once, and the watching goes on
                 if repr(exc) not in faults:
                     faults.add(repr(exc))
@@ -244,12 +246,19 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False):
                         err(f"{exc} (each scan is answered with this until it is fixed)")
                     link.scan = scanner
         return 0
+    except LockLost as exc:  # another link answers this folder now: this one must not
+        err(str(exc))
+        return 1
     except KeyboardInterrupt:
         return 0
     finally:
-        for number, previous in handled.items():
-            signal.signal(number, previous)
-        link.close()
-        scanner.close()
-        if doc is not None:
-            App.closeDocument(doc.Name)
+        # Everything closed while a further Ctrl-C still only sets the flag; the handlers
+        # given back last.
+        try:
+            link.close()
+            scanner.close()
+            if doc is not None:
+                App.closeDocument(doc.Name)
+        finally:
+            for number, previous in handled.items():
+                signal.signal(number, previous)

@@ -46,7 +46,10 @@ class Instance:
         the document since it was found (deleted, or a link broken)."""
         try:
             if not self.sub:
-                return App.Placement(self.root.Placement)
+                # FreeCAD 0.20 leaks ~80 B on each read of ``obj.Placement`` (the attribute);
+                # getPropertyByName gives the same value without the leak. A free [[wafer]]
+                # is read here at every step of a document scan.
+                return App.Placement(self.root.getPropertyByName("Placement"))
             placement = self.root.getSubObject(self.sub, retType=3)
         except ReferenceError:
             raise self._gone() from None

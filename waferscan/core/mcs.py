@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
+import re
 import stat
 import tempfile
 from dataclasses import dataclass, replace
@@ -18,7 +19,7 @@ from pathlib import Path
 
 from . import recipe, schema, sensor_settings, slow_scan, validation
 from .errors import InputError
-from .text_files import read_text
+from .text_files import read_text, remove_stale_temporaries
 from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
@@ -66,21 +67,38 @@ class Parameters:
         return InputError(self.source, self.lines.get(key), f"{key}: {message}")
 
 
+MAX_VALUE = 256  # characters of one parameters.txt value; a longer one is not read
+_KEY_LIKE = re.compile(r"[a-z][a-z0-9_]{0,39}")
+
+
 def parse_parameters(text, source=PARAMETERS):
-    """Parse parameters.txt text; unknown keys, repeated keys and bad values are errors."""
+    """Parse parameters.txt text; unknown keys, repeated keys and bad values are errors. An
+    error quotes no more of the file than a recognised key and a bounded value: a line that is
+    not ``key = value`` is not quoted at all, an unknown key only when it looks like a key (a
+    file that was never a parameters file, such as a hard link to a private one, is not
+    repeated into results.txt)."""
     values, lines = {}, {}
     for number, content in _content_lines(text.lstrip("\ufeff")):
         key, sep, value = content.partition("=")
         key = key.strip().lower()
         if not sep or not key:
-            raise InputError(source, number, f"expected 'key = value', got {content!r}")
+            first = content.split(None, 1)[0].lower()
+            if first in PARAMETER_KEYS:  # "start_z 280": the key is recognised, and named
+                raise InputError(source, number, f"expected 'key = value', got {first} "
+                                                 "without '='")
+            raise InputError(source, number, f"expected 'key = value' (a line of "
+                                             f"{len(content):,} characters)")
         if key not in PARAMETER_KEYS:
-            raise InputError(source, number, f"unknown key {key!r} (known: "
+            shown = repr(key) if _KEY_LIKE.fullmatch(key) else f"({len(key):,} characters)"
+            raise InputError(source, number, f"unknown key {shown} (known: "
                              f"{', '.join(sorted(PARAMETER_KEYS))})")
         if key in values:
             raise InputError(source, number, f"{key}: given twice (first on line {lines[key]})")
         if not value.strip():
             raise InputError(source, number, f"{key}: no value")
+        if len(value.strip()) > MAX_VALUE:
+            raise InputError(source, number, f"{key}: a value of {len(value.strip()):,} "
+                                             f"characters: not read (at most {MAX_VALUE})")
         try:
             values[key] = PARAMETER_KEYS[key](value)
         except ValueError as exc:
@@ -355,14 +373,19 @@ def _mode_for(path):
         return 0o666 & ~umask
 
 
-def atomic_write_text(path, text, sync_folder=True):
+def atomic_write_text(path, text, sync_folder=True, remove_stale=True):
     """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
     half of one: write a temporary file beside it, flush it to disk, then rename over.
     ``sync_folder``: flush the folder too (False: the caller does, as the MCS link does to
     report a failure of its own)."""
     path = Path(path)
     mode = _mode_for(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    # The pid in the name: a writer killed before its rename leaves a file the next writer of
+    # this path removes (remove_stale_temporaries), never one a live writer still uses.
+    if remove_stale:
+        remove_stale_temporaries(path.parent, f".{path.name}.", ".tmp")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".tmp",
+                               dir=path.parent)
     try:
         try:
             os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode, or the umask's

@@ -2,7 +2,16 @@
 results.txt. docs/reliability.md lists every rule below with the test that holds it.
 
 - One folder, one link: the link holds an exclusive lock (``flock``) on ``.waferscan.lock`` in
-  the folder while it lives; a second one is refused (``FolderBusy``).
+  the folder while it lives; a second one is refused (``FolderBusy``). The link answers only
+  under that lock, and checks that it is still the folder's before it carries anything out and
+  before each answer is written: a lock file deleted or replaced, or a folder removed and
+  recreated, is locked again if it is free (what has been done is then read again from the
+  folder), and when another link holds it now this one raises ``LockLost`` and never answers
+  again. A folder that cannot be locked (read-only, no lock file) gets nothing carried out
+  until it can be.
+- The reset: results.txt and history/ removed, then commands.txt written again from its start
+  (a new file or the same one truncated): the seqs count from the start again, and an answer
+  being carried out at that moment is dropped.
 - What has been done is read from the folder once, when the link starts: the highest seq
   answered in results.txt, or in the history folder when results.txt is gone. A restarted link
   carries on where the last one stopped. From then on the link (the only writer) keeps it.
@@ -79,6 +88,50 @@ class FolderBusy(InputError):
     """Another link holds the folder's lock."""
 
 
+class LockLost(Exception):
+    """The folder's lock is another link's now (its file deleted or replaced, the folder
+    removed and recreated, a folder that could not be locked taken by another): this link
+    stops answering."""
+
+
+class StopFlag:
+    """Set by SIGINT or SIGTERM (``stop_on_signals``): a plain flag. A signal handler runs in
+    the main thread between any two of its steps, so it must take no lock the main thread may
+    hold at that moment (a threading.Event's does: its set() would wait for ever on the lock
+    its own wait() holds)."""
+
+    def __init__(self):
+        self.requested = False
+
+    def set(self, *_):
+        self.requested = True
+
+    def is_set(self):
+        return self.requested
+
+    def wait(self, seconds):
+        """Sleep up to ``seconds``, in slices, ending early once a stop is requested."""
+        deadline = time.monotonic() + seconds
+        while not self.requested:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                break
+            time.sleep(min(left, 0.05))
+        return self.requested
+
+
+def stop_on_signals(flag):
+    """SIGINT and SIGTERM set ``flag`` instead of raising KeyboardInterrupt or ending the
+    process (main thread only). Returns the handlers replaced."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {number: signal.signal(number, flag.set)
+            for number in (signal.SIGINT, signal.SIGTERM)}
+
+
 @dataclass(frozen=True)
 class Scanned:
     """What a scan function may return in place of a bare ScanResult: the result and a note
@@ -117,6 +170,14 @@ def open_regular(path):
         os.close(fd)
         raise
     return fd
+
+
+def _identity(st):
+    return st.st_dev, st.st_ino
+
+
+def _same_file(a, b):
+    return _identity(a) == _identity(b) and a.st_nlink > 0
 
 
 def _reason(exc):
@@ -302,25 +363,64 @@ class McsLink:
         self.log = log or (lambda text: print(text, file=sys.stderr))
         self.report = report or self.log
         self._lock = None
+        self._folder_id = None  # (st_dev, st_ino) of the folder when its lock was taken
+        self._faults = set()
         self._take_lock()
+        self._running = False  # a scan is being carried out (its command is the queue's first)
+        self._epoch = 0  # counts the resets: an answer carried out before one is dropped
+        self._start_over()
+        self._retry_at = 0.0
+        self._answers_since_prune = 0
+        self._catch_up_history()
+        self._prune_history()
+
+    def _start_over(self):
+        """What has been done, read from the folder (at the start, after a reset, and after
+        the lock was taken again in a folder that changed meanwhile)."""
         self._remove_leftovers()
         self._done = answered_seq(self.folder)
         self._last_read = self._done
         self._feed = CommandFeed(self.folder / COMMANDS, self.log, self.report)
         self._queue = collections.deque()
         self._first_read = True
-        self._running = False  # a scan is being carried out (its command is the queue's first)
         self._unwritten = []  # answers carried out but not yet in results.txt
-        self._retry_at = 0.0
-        self._faults = set()
-        self._answers_since_prune = 0
-        self._catch_up_history()
-        self._prune_history()
 
     # --- the folder's lock --------------------------------------------------------------
 
     def _take_lock(self):
+        """Lock the folder (``self._lock``), or leave ``self._lock`` None when it cannot be
+        locked (a read-only folder without a lock file). FolderBusy when another link holds
+        it."""
         path = self.folder / LOCK
+        for _ in range(10):
+            fd = self._lock_file(path)
+            if fd is None:
+                return
+            try:
+                same = _same_file(os.fstat(fd), os.stat(path, follow_symlinks=False))
+            except OSError:
+                same = False
+            if same:
+                break
+            # Deleted or replaced between open and flock (a link that just let go of a lock
+            # it had lost, a user): that file locks nothing; lock the one there now.
+            os.close(fd)
+        else:
+            raise FolderBusy(self.folder, None, f"the lock file {LOCK} keeps being replaced: "
+                                                "the folder cannot be locked")
+        try:
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()}\n".encode())
+        except OSError:
+            pass  # read-only: the lock holds all the same
+        self._lock = fd
+        try:
+            self._folder_id = _identity(os.stat(self.folder))
+        except OSError:
+            self._folder_id = None
+
+    def _lock_file(self, path):
+        """An open descriptor of the lock file, flocked; None when there is none to lock."""
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
         except OSError as exc:
@@ -330,9 +430,10 @@ class McsLink:
             try:  # a read-only folder: the lock file may still be there to read-lock
                 fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
             except OSError:
-                self.report(f"{path}: cannot lock the folder ({_reason(exc)}); watching "
-                            "without a lock")
-                return
+                self._fault(f"{path}: cannot lock the folder ({_reason(exc)}); nothing is "
+                            "carried out until it can be locked (tried again every "
+                            f"{RETRY_SECONDS:g} s)")
+                return None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
@@ -351,18 +452,68 @@ class McsLink:
             raise FolderBusy(self.folder, None, "another WaferScan link is watching this folder"
                              + (f" (process {holder})" if holder.isdigit() else "")
                              + f": one folder, one link (lock {LOCK})") from None
+        return fd
+
+    def _lock_held(self):
+        """True while the lock file at the folder's path is still the one this link locked:
+        not deleted, not replaced, and the folder not removed and recreated."""
+        if self._lock is None:
+            return False
         try:
-            os.ftruncate(fd, 0)
-            os.write(fd, f"{os.getpid()}\n".encode())
+            return _same_file(os.fstat(self._lock),
+                              os.stat(self.folder / LOCK, follow_symlinks=False))
         except OSError:
-            pass  # read-only: the lock holds all the same
-        self._lock = fd
+            return False
+
+    def _ensure_lock(self):
+        """True when this link holds the folder's lock, taken again if it was lost and is
+        free; False when the folder cannot be locked (yet). LockLost when another link holds
+        it now: this link must not answer again. Called before anything is carried out and
+        before every answer is written."""
+        if self._lock_held():
+            return True
+        had = self._lock is not None
+        if not had and time.monotonic() < self._retry_at:
+            return False
+        if had:
+            self.close()  # a lock on a file no longer the folder's locks nothing
+        before = self._folder_id
+        try:
+            self._take_lock()
+        except InputError as exc:
+            holder = re.search(r"\(process [0-9]+\)", str(exc))
+            raise LockLost(f"{self.folder}: lost the folder's lock to another WaferScan link"
+                           + (f" {holder.group(0)}" if holder else "")
+                           + ": this link stops answering") from None
+        if self._lock is None:
+            self._retry_at = time.monotonic() + RETRY_SECONDS
+            return False
+        waited = any(f.startswith(str(self.folder / LOCK)) for f in self._faults)
+        self._faults = {f for f in self._faults if not f.startswith(str(self.folder / LOCK))}
+        if waited:
+            self.report(f"{self.folder / LOCK}: the folder is locked now: commands are carried "
+                        "out")
+        if had:
+            self.report(f"{self.folder / LOCK}: removed or replaced while this link held it: "
+                        "taken again")
+        if not had or before != self._folder_id or answered_seq(self.folder) != self._done:
+            # Locked for the first time, or the folder is not the one it was: what has been
+            # done is the folder's to say; anything carried out meanwhile is dropped.
+            if had:
+                self.report(f"{self.folder}: not the folder it was (removed and recreated, or "
+                            "reset): commands are read again from its start")
+            self._epoch += 1
+            running = self._queue[0] if self._running and self._queue else None
+            self._start_over()
+            if running is not None:
+                self._queue.append(running)  # still being carried out: its answer is dropped
+        return True
 
     def close(self):
         """Give the folder back (release its lock)."""
-        if self._lock is not None:
-            os.close(self._lock)  # closing the descriptor releases the flock
-            self._lock = None
+        fd, self._lock = self._lock, None  # never closed twice, even if interrupted here
+        if fd is not None:
+            os.close(fd)  # closing the descriptor releases the flock
 
     def __enter__(self):
         return self
@@ -404,6 +555,18 @@ class McsLink:
             self._queue = collections.deque([running] if running else [])
             self._last_read = max((s for s in (self._done, running and running.seq)
                                    if s is not None), default=None)
+            if not first and self._done is not None:
+                now = answered_seq(self.folder)
+                if now is None or now < self._done:
+                    # The reset: results.txt and history/ cleared, then commands.txt written
+                    # again from its start. Seqs count from the start again; an answer carried
+                    # out before (the scan running now) is dropped.
+                    self._epoch += 1
+                    self._unwritten = []
+                    self._done = self._last_read = now
+                    self.log(f"{self._feed.path}: read again from its start with {RESULTS} and "
+                             f"{HISTORY}/ cleared: the folder was reset, seqs count from the "
+                             "start again")
         taken = 0
         for command in commands:
             if command.seq is None:
@@ -431,24 +594,41 @@ class McsLink:
 
     # --- carrying out -------------------------------------------------------------------
 
-    def poll(self):
+    def poll(self, stop=None):
         """Carry out every pending command; returns the answers given (written to
         results.txt). After a fault of the folder, nothing new is carried out until the
-        answers already carried out are written."""
+        answers already carried out are written. ``stop()``, when given, is asked before each
+        command: once it is true, the commands still pending wait (for the next poll, or the
+        next link)."""
         answers = []
+        if not self._ensure_lock():  # never carried out without the folder's lock
+            return answers
         if self._unwritten and not self._flush_unwritten(answers):
             return answers
         self._read_commands()
         while self._queue:
+            if stop is not None and stop():
+                break
             command = self._queue[0]
             if self._done is not None and command.seq <= self._done:
                 self._queue.popleft()  # answered meanwhile (a STOP answered during a scan)
                 continue
-            self._unwritten = self._carry_out(command)
+            epoch = self._epoch
+            carried = self._carry_out(command)
             self._queue.popleft()
+            if epoch != self._epoch:
+                self.log(f"seq {command.seq} {command.name}: not answered: the folder was reset "
+                         "while it was carried out")
+                continue
+            self._unwritten = carried
             if not self._flush_unwritten(answers):
                 break
         return answers
+
+    @property
+    def locked(self):
+        """True while this link holds the folder's lock (it answers only then)."""
+        return self._lock_held()
 
     @property
     def unanswered(self):
@@ -460,6 +640,13 @@ class McsLink:
         if time.monotonic() < self._retry_at:
             return False
         while self._unwritten:
+            # Just before writing: the lock still this link's, the folder not reset meanwhile
+            # (either drops these answers).
+            if not self._ensure_lock():
+                return False
+            self._read_commands()
+            if not self._unwritten:
+                break
             seq, name, text, answer = self._unwritten[0]
             try:
                 self._write(seq, text)
@@ -543,7 +730,8 @@ class McsLink:
         """results.txt replaced by ``text`` atomically and durably (file and folder flushed);
         then the history's link to it. Raises OSError when results.txt was not replaced."""
         target = self.folder / RESULTS
-        atomic_write_text(target, text, sync_folder=False)  # the folder's flush: below
+        # the folder's flush: below; leftovers are removed once, at the start, under the lock
+        atomic_write_text(target, text, sync_folder=False, remove_stale=False)
         self._done = seq
         try:
             dir_fd = os.open(self.folder, os.O_RDONLY | os.O_DIRECTORY)

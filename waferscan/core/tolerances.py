@@ -53,6 +53,11 @@ STATE_WORDS = {
     "position_error": "misplaced", "misplaced": "misplaced",
     "protruding": "protruding",
 }
+# The largest magnitude each quantity may take (a normal's mean +- 6 sigma too): as the other
+# readers, a length is at most a carrier's size, a tilt below a right angle. threshold_on and
+# tilt have their own, tighter checks below.
+LIMITS = {"seat_offset": 1000.0, "thickness": 100.0, "bow": 100.0, "protrusion": 1000.0,
+          "beam_z": 1000.0, "beam_tilt": 90.0, "sensor_response": 10.0}
 # How many sigmas of a normal distribution are checked against a quantity's limits.
 NORMAL_REACH = 6.0
 # Probabilities must sum to 1 to this much.
@@ -114,13 +119,10 @@ class Tolerances:
 
 def read_tolerances(path):
     """Read and check a TOL.toml file (InputError with file and line when it is wrong)."""
+    from .text_files import read_text
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise InputError(path, None, f"cannot read the tolerance file: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(path, None, "the tolerance file is not UTF-8 text") from None
+    text = read_text(path, "the tolerance file")  # a regular file, bounded
     return parse_tolerances(text, str(path))
 
 
@@ -190,6 +192,16 @@ def _distribution(name, table, error):
     # mean (its mean -+ 6 sigma), a fixed value.
     low_key = {"uniform": "lo", "normal": "mean"}.get(kind, "value")
     high_key = {"uniform": "hi", "normal": "mean"}.get(kind, "value")
+    limit = LIMITS.get(name)
+    if limit is not None and not (-limit <= dist.low and dist.high <= limit):
+        if kind == "normal":
+            key = "mean" if not -limit <= dist.a <= limit else "sigma"
+        else:
+            key = low_key if not -limit <= dist.low else high_key
+        unit = QUANTITIES[name][0]
+        raise error(f"[{name}] {key}: must stay within ±{limit:,.0f} {unit}"
+                    + (" (a normal's mean ± 6 sigma too)" if kind == "normal" else "")
+                    + f", got {table[key]!r}", name, key)
     if name == "thickness" and dist.low <= 0.0:
         raise error(f"[thickness] {low_key}: a thickness must stay above 0 mm (a normal's "
                     f"mean - 6 sigma too), got {table[low_key]!r}", name, low_key)

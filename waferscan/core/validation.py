@@ -28,6 +28,10 @@ MAX_WAFERS = 10_000
 # every value this small keeps sums and products of them (a carrier's top slot, a beam's end,
 # a latch lag) finite, so no engine meets inf or NaN.
 MAX_COORDINATE = 1_000_000.0
+MIN_LENGTH = 1e-6  # mm: a length (pitch, thickness, diameter) below a nanometre is no length
+# thickness_correction is the measured thickness over the true one (SPEC §11): beyond a factor
+# of 100 either way the sensor measures nothing a correction could mend.
+CORRECTION_RANGE = (0.01, 100.0)
 # A lift axis must climb: within about 84° of vertical (a Z component of at least 0.1).
 MIN_LIFT_Z = 0.1
 MAX_BASE_YAW = 360.0  # degrees
@@ -71,6 +75,8 @@ def _show(values):
 def _positive_length(value, what):
     if not _finite((value,)) or not 0.0 < value <= MAX_COORDINATE:
         return f"{what} must be greater than 0 and at most {MAX_COORDINATE:,.0f} mm, got {value:g}"
+    if value < MIN_LENGTH:  # 1e-320 is "greater than 0" and makes nonsense of every division
+        return f"{what} must be at least {MIN_LENGTH:g} mm (1 nm), got {value:g}"
     return None
 
 
@@ -346,6 +352,12 @@ def mapping_problems(mapping, thickness):
     if mapping.thickness_correction is not None and _finite((mapping.thickness_correction,)) \
             and mapping.thickness_correction <= 0.0:
         add("thickness_correction", f"must be greater than 0, got {mapping.thickness_correction:g}")
+    elif mapping.thickness_correction is not None \
+            and _finite((mapping.thickness_correction,)) \
+            and not CORRECTION_RANGE[0] <= mapping.thickness_correction <= CORRECTION_RANGE[1]:
+        low, high = CORRECTION_RANGE
+        add("thickness_correction", f"must be from {low:g} to {high:g} (the measured thickness "
+                                    f"over the true one), got {mapping.thickness_correction:g}")
     if mapping.rules not in RULE_SETS:
         add("rules", f"expected one of {', '.join(RULE_SETS)}, got {mapping.rules!r}")
     if found or not _finite((thickness,)):

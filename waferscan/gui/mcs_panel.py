@@ -18,7 +18,7 @@ from ..cad.reader import read_layout
 from ..core.errors import InputError
 from ..core.mcs import (COMMANDS, PARAMETERS, apply_parameters, atomic_write_text,
                         format_parameters, parse_parameters)
-from ..core.mcs_link import McsLink, ScanStopped
+from ..core.mcs_link import LockLost, McsLink, ScanStopped
 from . import preferences
 from .inputs import folder_row
 from .qt import ClosableTaskPanel
@@ -371,6 +371,14 @@ class McsTaskPanel(ClosableTaskPanel):
         self._polling = True
         try:
             answers = self.link.poll()
+        except LockLost as exc:  # another link answers this folder now: this one stops
+            self._polling = False
+            self.stop()
+            App.Console.PrintError(f"WaferScan: MCS link: {exc}\n")
+            if self.is_open():
+                self._show_state(f"stopped: {exc}", error=True)
+                self._buttons()
+            return []
         except Exception as exc:  # the folder went away, a disk error: say so, keep watching
             self._show_state(f"watching, but the last poll failed: {exc}", error=True)
             App.Console.PrintError(f"WaferScan: MCS link: {exc}\n")
