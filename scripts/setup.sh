@@ -21,10 +21,11 @@ missing=()
 command -v freecadcmd >/dev/null 2>&1 || missing+=(freecad-python3)
 command -v xvfb-run >/dev/null 2>&1 || missing+=(xvfb)
 command -v xauth >/dev/null 2>&1 || missing+=(xauth)
-# The tests: git (the Addon Manager test clones the addon), debootstrap (to build make
+# The tests: git (the Addon Manager test clones the addon), strace, debootstrap (to build make
 # test-freecad1's root; not inside that root, where freecad1-run.sh sets WAFERSCAN_VENV), and
 # the certificate authorities pip needs (a minbase system has none).
 command -v git >/dev/null 2>&1 || missing+=(git)
+command -v strace >/dev/null 2>&1 || missing+=(strace)   # the test that --store flushes to disk
 [ -n "${WAFERSCAN_VENV:-}" ] || command -v debootstrap >/dev/null 2>&1 || missing+=(debootstrap)
 [ -s /etc/ssl/certs/ca-certificates.crt ] && dpkg-query -W -f='${Status}' ca-certificates 2>/dev/null |
   grep -q 'install ok installed' || missing+=(ca-certificates)

@@ -132,8 +132,8 @@ def test_errors_name_the_file_and_line(tmp_path):
     params = tmp_path / "p.txt"
     params.write_text("# coarse\nz_step = 0.7\n")
     done = run("calibrate", EXAMPLES / "calibration_drifted.toml", "--params", params)
-    one_error_line(done, f"{params}:2: z_step: the references read 0 mm thick: z_step 0.7 is "
-                         "too coarse to measure them")
+    one_error_line(done, f"{params}:2: z_step: the bottom reference reads 0 mm thick: z_step 0.7 "
+                         "is too coarse to measure it")
 
 
 @pytest.mark.parametrize("text, key, message", [
