@@ -249,6 +249,8 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         raise InputError(input_path, None, str(exc)) from None
     if "beam_tilt" in tolerances.quantities and layout.beam.direction[:2] == (0.0, 0.0):
         raise InputError(tolerance_path, None, "[beam_tilt]: the INPUT's beam runs vertically")
+    if scheduler is None:  # a cluster's memory is checked once connected (below)
+        check_fits(n, layout, machine_memory(), "this machine")
     if workers == 0 and scheduler is None:
         count = partition_count or 1
         return _sweep(layout, tolerances, n, seed, rules, count, None, progress)
@@ -264,6 +266,17 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         # A lost scheduler or its workers are said in one line (ClusterLost); the client's
         # reconnection attempts log tracebacks meanwhile, which are not the user's news.
         _silence_dask_logs()
+        try:
+            limits = [w.get("memory_limit") or 0
+                      for w in client.scheduler_info().get("workers", {}).values()]
+        except Exception:  # noqa: BLE001 (an old scheduler without the figure: not checked)
+            limits = []
+        if limits and all(limits):
+            try:
+                check_fits(n, layout, sum(limits), f"the cluster's {len(limits)} workers")
+            except InputError:
+                client.close()
+                raise
         workers = max(1, len(client.scheduler_info().get("workers", {})))
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
@@ -286,6 +299,37 @@ def _silence_dask_logs():
                  "distributed.core", "distributed.worker", "distributed.client",
                  "distributed.comm", "tornado", "asyncio"):
         logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+# What a sweep keeps of each layout until its summary is made: the margins of its wafers
+# (float64, a thickness and a position margin a slot), held where its partition ran, and a
+# sorted copy of them: 4 values a slot, 32 bytes. The paper's 25 slots: 800 B a layout
+# (measured: ~400 B; the rest is room for the partition being computed).
+BYTES_PER_SLOT = 32
+MEMORY_SHARE = 0.5  # of the memory there is, a sweep may count on
+
+
+def machine_memory():
+    """This machine's physical memory in bytes (None when the system does not say)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def check_fits(n, layout, memory, where):
+    """InputError (-n) when N layouts' margins cannot fit in ``memory`` bytes: refused before
+    anything is drawn, rather than a machine run out of memory hours later (-n 10^9 grew ~9 MB
+    a second until it did; 10^13 was a MemoryError, 10^30 an OverflowError)."""
+    if not memory:
+        return
+    per_layout = BYTES_PER_SLOT * max(1, layout.scanned_carrier.slot_count)
+    most = int(memory * MEMORY_SHARE) // per_layout
+    if n > most:
+        shown = f"{n:,}" if n < 10 ** 15 else f"{n:.3g}"
+        raise InputError("-n", None, f"{shown} layouts do not fit in {where}'s memory "
+                         f"({memory / 2 ** 30:,.1f} GiB; a sweep keeps ~{per_layout} bytes a "
+                         f"layout until its summary): at most {most:,} here")
 
 
 def _connect(Client, scheduler):

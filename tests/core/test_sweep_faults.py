@@ -222,3 +222,17 @@ def test_a_cluster_that_dies_mid_sweep_ends_it_with_one_line(tmp_path, killed):
     assert out == ""
     for log in logs.values():
         log.close()
+
+
+@pytest.mark.parametrize("n", ["10000000000000", "1" + "0" * 30, "1000000000"])
+def test_an_n_that_cannot_fit_is_refused_before_anything_is_drawn(tmp_path, n):
+    """10^13 was a MemoryError traceback, 10^30 an OverflowError one, 10^9 grew ~9 MB a second
+    until the machine ran out (a sweep keeps its margins, ~400 B a layout, until the summary).
+    Any machine of less than 1.6 TB refuses all three."""
+    done = subprocess.run(sweep(tmp_path, "-n", n, "--workers", "0"), cwd=ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr[-3000:]
+    assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
+    assert done.stderr.startswith("waferscan: error: -n: ") and " layouts do not fit in this " \
+        "machine's memory (" in done.stderr and "): at most " in done.stderr, done.stderr
+    assert done.stdout == ""
