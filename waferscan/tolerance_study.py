@@ -16,6 +16,7 @@ import shutil
 import stat
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from .core import sweep
@@ -29,6 +30,22 @@ PARTITIONS_PER_WORKER = 4
 # How long (s) to wait for an existing scheduler before calling its address bad input.
 CONNECT_TIMEOUT = 10.0
 PROGRESS_PREFIX = "sweep:"
+# How long (s) a sweep on a cluster waits with no worker at all before it gives up (the
+# cluster's workers died or were stopped); WAFERSCAN_SWEEP_WORKERLESS_SECONDS overrides it.
+WORKERLESS_SECONDS = 60.0
+
+
+def _workerless_seconds():
+    try:
+        seconds = float(os.environ.get("WAFERSCAN_SWEEP_WORKERLESS_SECONDS", WORKERLESS_SECONDS))
+    except ValueError:
+        return WORKERLESS_SECONDS
+    return seconds if seconds > 0 else WORKERLESS_SECONDS
+
+
+class ClusterLost(InputError):
+    """The cluster can no longer run the sweep: every worker gone too long, or the scheduler
+    gone. One line: what was lost, what to do."""
 
 
 def load_layout(path):
@@ -134,34 +151,88 @@ class DaskPartitions:
     margins the summary needs, not the partitions' ~40 MB for 100,000 layouts). Progress is
     reported as partitions finish; ``sizes_of(i)``: the layouts in partition i."""
 
-    def __init__(self, client, sizes_of):
+    def __init__(self, client, sizes_of, address=None):
         self.client = client
         self.sizes_of = sizes_of
+        self.address = address or "the cluster"
 
     def run(self, function, args, progress=None):
-        from distributed import as_completed, wait
-
-        futures = self.client.map(function, *zip(*args), pure=False)
-        if progress:
-            index = {f.key: i for i, f in enumerate(futures)}
-            done = layouts = 0
-            for future in as_completed(futures):
-                if future.status != "finished":
-                    future.result()  # a partition that failed (or was cancelled) raises here
-                done += 1
-                layouts += self.sizes_of(index[future.key])
-                progress(done, len(futures), layouts)
-        wait(futures)
-        for future in futures:  # a partition that failed (or was cancelled) raises here
+        futures = self._guarded(lambda: self.client.map(function, *zip(*args), pure=False), 0, 0)
+        index = {f.key: i for i, f in enumerate(futures)}
+        done = layouts = 0
+        for future in self._as_completed(futures):
             if future.status != "finished":
-                future.result()
+                self._guarded(future.result, done, len(futures))  # failed or cancelled
+            done += 1
+            layouts += self.sizes_of(index[future.key])
+            if progress:
+                progress(done, len(futures), layouts)
         return futures
 
     def apply(self, function, handles, *extra):
         # Each task runs on the worker that holds its partition; the extras are small.
-        futures = self.client.map(function, handles, *[[e] * len(handles) for e in extra],
-                                  pure=False)
-        return self.client.gather(futures)
+        futures = self._guarded(lambda: self.client.map(
+            function, handles, *[[e] * len(handles) for e in extra], pure=False),
+            len(handles), len(handles))
+        for _ in self._as_completed(futures):
+            pass
+        return self._guarded(lambda: self.client.gather(futures), len(handles), len(handles))
+
+    def _as_completed(self, futures):
+        """The futures as they finish, watching the cluster meanwhile: with no worker for
+        WORKERLESS_SECONDS (the partitions would wait for ever) or the scheduler gone, one
+        ClusterLost line instead of a frozen sweep or a traceback."""
+        from distributed import wait
+
+        pending = set(futures)
+        alone_since = None
+        limit = _workerless_seconds()
+        while pending:
+            finished, pending = self._guarded(
+                lambda: self._wait(wait, pending), len(futures) - len(pending), len(futures))
+            yield from finished
+            if not pending or finished:
+                alone_since = None
+                continue
+            workers = self._guarded(lambda: len(self.client.nthreads()),
+                                    len(futures) - len(pending), len(futures))
+            if workers:
+                alone_since = None
+            elif alone_since is None:
+                alone_since = time.monotonic()
+            elif time.monotonic() - alone_since >= limit:
+                done = len(futures) - len(pending)
+                raise ClusterLost("--scheduler", None, f"{self.address} has had no worker for "
+                                  f"{limit:g} s: {done} of {len(futures)} partitions done, "
+                                  f"{len(pending)} lost; start workers (dask worker "
+                                  f"{self.address}) and run the sweep again")
+
+    @staticmethod
+    def _wait(wait, pending):
+        """(finished, pending) after at most a second."""
+        try:
+            finished, left = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+        except TimeoutError:  # (a TimeoutError is an OSError: caught before _guarded sees it)
+            return set(), pending
+        return set(finished), set(left)
+
+    def _guarded(self, call, done, total):
+        """``call()``, a lost scheduler said in one line (ClusterLost)."""
+        import asyncio
+
+        from distributed import client as dask_client
+        from distributed.comm import CommClosedError
+
+        lost = tuple(getattr(dask_client, name) for name in ("FutureCancelledError",
+                                                              "FuturesCancelledError")
+                     if hasattr(dask_client, name))
+        try:
+            return call()
+        except (*lost, asyncio.CancelledError, CommClosedError, OSError) as exc:
+            raise ClusterLost("--scheduler", None, f"lost the Dask scheduler at {self.address} "
+                              f"mid-sweep ({done} of {total} partitions done: "
+                              f"{type(exc).__name__}); check it and run the sweep again") \
+                from None
 
 
 def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
@@ -178,6 +249,8 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         raise InputError(input_path, None, str(exc)) from None
     if "beam_tilt" in tolerances.quantities and layout.beam.direction[:2] == (0.0, 0.0):
         raise InputError(tolerance_path, None, "[beam_tilt]: the INPUT's beam runs vertically")
+    if scheduler is None:  # a cluster's memory is checked once connected (below)
+        check_fits(n, layout, machine_memory(), "this machine")
     if workers == 0 and scheduler is None:
         count = partition_count or 1
         return _sweep(layout, tolerances, n, seed, rules, count, None, progress)
@@ -190,10 +263,24 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         client = Client(cluster)
     else:
         client = _connect(Client, scheduler)
+        # A lost scheduler or its workers are said in one line (ClusterLost); the client's
+        # reconnection attempts log tracebacks meanwhile, which are not the user's news.
+        _silence_dask_logs()
+        try:
+            limits = [w.get("memory_limit") or 0
+                      for w in client.scheduler_info().get("workers", {}).values()]
+        except Exception:  # noqa: BLE001 (an old scheduler without the figure: not checked)
+            limits = []
+        if limits and all(limits):
+            try:
+                check_fits(n, layout, sum(limits), f"the cluster's {len(limits)} workers")
+            except InputError:
+                client.close()
+                raise
         workers = max(1, len(client.scheduler_info().get("workers", {})))
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
-        return _sweep(layout, tolerances, n, seed, rules, count, client, progress)
+        return _sweep(layout, tolerances, n, seed, rules, count, client, progress, scheduler)
     except KeyboardInterrupt:
         # Ctrl-C: the command says so in one line (cli.main); the cluster torn down mid-task
         # logs its cancelled coroutines as ERROR tracebacks, which are not the user's news.
@@ -212,6 +299,37 @@ def _silence_dask_logs():
                  "distributed.core", "distributed.worker", "distributed.client",
                  "distributed.comm", "tornado", "asyncio"):
         logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+# What a sweep keeps of each layout until its summary is made: the margins of its wafers
+# (float64, a thickness and a position margin a slot), held where its partition ran, and a
+# sorted copy of them: 4 values a slot, 32 bytes. The paper's 25 slots: 800 B a layout
+# (measured: ~400 B; the rest is room for the partition being computed).
+BYTES_PER_SLOT = 32
+MEMORY_SHARE = 0.5  # of the memory there is, a sweep may count on
+
+
+def machine_memory():
+    """This machine's physical memory in bytes (None when the system does not say)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def check_fits(n, layout, memory, where):
+    """InputError (-n) when N layouts' margins cannot fit in ``memory`` bytes: refused before
+    anything is drawn, rather than a machine run out of memory hours later (-n 10^9 grew ~9 MB
+    a second until it did; 10^13 was a MemoryError, 10^30 an OverflowError)."""
+    if not memory:
+        return
+    per_layout = BYTES_PER_SLOT * max(1, layout.scanned_carrier.slot_count)
+    most = int(memory * MEMORY_SHARE) // per_layout
+    if n > most:
+        shown = f"{n:,}" if n < 10 ** 15 else f"{n:.3g}"
+        raise InputError("-n", None, f"{shown} layouts do not fit in {where}'s memory "
+                         f"({memory / 2 ** 30:,.1f} GiB; a sweep keeps ~{per_layout} bytes a "
+                         f"layout until its summary): at most {most:,} here")
 
 
 def _connect(Client, scheduler):
@@ -236,14 +354,14 @@ def _connect(Client, scheduler):
                          f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
 
 
-def _sweep(layout, tolerances, n, seed, rules, count, client, progress):
+def _sweep(layout, tolerances, n, seed, rules, count, client, progress, address=None):
     parts = sweep.partitions(n, count)
     sizes = sweep.block_sizes(n)
 
     def sizes_of(i):
         return sum(sizes[b] for b in parts[i])
 
-    runner = None if client is None else DaskPartitions(client, sizes_of)
+    runner = None if client is None else DaskPartitions(client, sizes_of, address)
 
     def local_progress(done, total, layouts=None):
         if progress:

@@ -5,7 +5,6 @@ refused; a killed writer's temporary files are cleaned up; --store flushes to di
 failed before the fix."""
 
 import os
-import signal
 import stat
 import subprocess
 import sys

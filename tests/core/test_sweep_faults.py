@@ -129,3 +129,110 @@ def test_a_rerun_into_the_same_out_replaces_the_set_as_a_whole(tmp_path):
     assert done.stderr == (f"waferscan: error: {out}: holds other files than a sweep's "
                            "('notes.txt'): --out is replaced as a whole; name a new folder\n")
     assert (out / "notes.txt").read_text() == "mine\n"
+
+
+def _free_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _end_group(process):
+    """A process started in a session of its own, ended with every process of that session."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        try:
+            os.killpg(process.pid, sig)
+        except ProcessLookupError:
+            return
+        try:
+            process.wait(timeout=20)
+            os.killpg(process.pid, 0)
+        except (subprocess.TimeoutExpired, ProcessLookupError):
+            pass
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline:
+            try:
+                os.killpg(process.pid, 0)
+            except ProcessLookupError:
+                return
+            time.sleep(0.1)
+
+
+@pytest.mark.parametrize("killed", ["workers", "scheduler"])
+def test_a_cluster_that_dies_mid_sweep_ends_it_with_one_line(tmp_path, killed):
+    """A real `dask scheduler` and `dask worker` (2 processes) on 127.0.0.1; once the sweep has
+    finished a partition, the workers (with their nanny) or the scheduler are killed with
+    SIGKILL. Before: the sweep waited for ever with a frozen progress line (workers), or ended
+    with a FutureCancelledError traceback (scheduler)."""
+    dask = Path(sys.executable).with_name("dask")
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "WAFERSCAN_SWEEP_WORKERLESS_SECONDS": "5"}
+    logs = {name: open(tmp_path / f"{name}.log", "w+") for name in ("scheduler", "worker",
+                                                                     "sweep")}
+    started = []
+    try:
+        scheduler = subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port",
+                                      str(port), "--no-dashboard"], cwd=ROOT, env=env,
+                                     stdout=logs["scheduler"], stderr=subprocess.STDOUT,
+                                     start_new_session=True)
+        started.append(scheduler)
+        worker = subprocess.Popen([str(dask), "worker", address, "--nworkers", "2",
+                                   "--nthreads", "1", "--no-dashboard", "--host", "127.0.0.1"],
+                                  cwd=ROOT, env=env, stdout=logs["worker"],
+                                  stderr=subprocess.STDOUT, start_new_session=True)
+        started.append(worker)
+        from distributed import Client
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=120)
+        swept = subprocess.Popen(sweep(tmp_path, "-n", "4000000", "--partitions", "40",
+                                       "--scheduler", address), cwd=ROOT, env=env,
+                                 stdout=subprocess.PIPE, stderr=logs["sweep"], text=True,
+                                 start_new_session=True)
+        started.append(swept)
+        deadline = time.monotonic() + 300
+        while time.monotonic() < deadline and swept.poll() is None and \
+                "sweep: " not in Path(logs["sweep"].name).read_text():
+            time.sleep(0.1)  # a partition is done: the sweep is under way
+        assert swept.poll() is None, Path(logs["sweep"].name).read_text()[-3000:]
+        os.killpg((worker if killed == "workers" else scheduler).pid, signal.SIGKILL)
+        try:
+            out, _ = swept.communicate(timeout=180)
+        except subprocess.TimeoutExpired:
+            pytest.fail(f"the sweep still runs 180 s after the {killed} were killed")
+    finally:
+        for process in reversed(started):
+            _end_group(process)
+        for log in logs.values():
+            log.flush()
+    err = Path(logs["sweep"].name).read_text()
+    lines = err.splitlines()
+    assert swept.returncode == 2, err[-3000:]
+    assert "Traceback" not in err and all(line.startswith("sweep: ") for line in lines[:-1]), \
+        err[-3000:]
+    if killed == "workers":
+        assert lines[-1].startswith(f"waferscan: error: --scheduler: {address} has had no "
+                                    "worker for 5 s: "), lines[-1]
+        assert lines[-1].endswith(f"lost; start workers (dask worker {address}) and run the "
+                                  "sweep again"), lines[-1]
+    else:
+        assert lines[-1].startswith(f"waferscan: error: --scheduler: lost the Dask scheduler "
+                                    f"at {address} mid-sweep ("), lines[-1]
+    assert out == ""
+    for log in logs.values():
+        log.close()
+
+
+@pytest.mark.parametrize("n", ["10000000000000", "1" + "0" * 30, "1000000000"])
+def test_an_n_that_cannot_fit_is_refused_before_anything_is_drawn(tmp_path, n):
+    """10^13 was a MemoryError traceback, 10^30 an OverflowError one, 10^9 grew ~9 MB a second
+    until the machine ran out (a sweep keeps its margins, ~400 B a layout, until the summary).
+    Any machine of less than 1.6 TB refuses all three."""
+    done = subprocess.run(sweep(tmp_path, "-n", n, "--workers", "0"), cwd=ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr[-3000:]
+    assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
+    assert done.stderr.startswith("waferscan: error: -n: ") and " layouts do not fit in this " \
+        "machine's memory (" in done.stderr and "): at most " in done.stderr, done.stderr
+    assert done.stdout == ""
