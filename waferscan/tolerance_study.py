@@ -13,6 +13,7 @@ import io
 import json
 import os
 import shutil
+import signal
 import stat
 import sys
 import tempfile
@@ -285,11 +286,32 @@ def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=Non
         # Ctrl-C: the command says so in one line (cli.main); the cluster torn down mid-task
         # logs its cancelled coroutines as ERROR tracebacks, which are not the user's news.
         _silence_dask_logs()
+        if cluster is not None:
+            _kill_local_workers(cluster)
         raise
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _kill_local_workers(cluster):
+    """Ctrl-C: the sweep's results are dropped, so the local cluster's worker processes are
+    killed outright before the cluster is closed. Closed one by one, a worker whose scheduler
+    went away first prints its own traceback from its own process (seen on Python 3.13:
+    BrokenPipeError in Worker.close), which no log level here can silence. Each nanny is told
+    first that its worker's end is no reason to start another."""
+    for nanny in list(getattr(cluster, "workers", {}).values()):
+        pid = getattr(nanny, "pid", None)
+        try:
+            nanny.close_gracefully(reason="sweep interrupted")
+        except Exception:  # noqa: BLE001 (a nanny already closing: its worker goes anyway)
+            pass
+        if pid:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
 
 
 def _silence_dask_logs():
