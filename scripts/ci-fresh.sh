@@ -65,6 +65,8 @@ fi
 # 2. This run's root: an overlay over the minbase root (or a copy of it). Each run holds a lock
 #    on its folder while it lives; a folder whose lock is free is a killed run's: removed.
 mkdir -p "$cache/ci-fresh-runs"
+exec 9>"$cache/.lock"   # no other rehearsal looks at the runs while this one picks its own
+flock 9
 for old in "$cache"/ci-fresh-runs/run.*; do
   [ -d "$old" ] || continue
   if flock -n "$old/.lock" true 2>/dev/null; then
@@ -75,6 +77,7 @@ done
 run=$(mktemp -d "$cache/ci-fresh-runs/run.XXXXXX")
 exec 7>"$run/.lock"
 flock 7
+exec 9>&-
 root="$run/root"
 mkdir -p "$root" "$run/upper" "$run/work"
 status=0
