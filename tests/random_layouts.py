@@ -4,9 +4,16 @@ beams, tilted lift axes, and slot seats that sometimes fall exactly on the step 
 
 import math
 
-from waferscan.core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters,
-                                  Wafer, unit)
-from waferscan.core.scenario import seated_wafers
+from waferscan.core.files.scenario import seated_wafers
+from waferscan.core.model import (
+    Beam,
+    Carrier,
+    Layout,
+    MappingTolerances,
+    ScanParameters,
+    Wafer,
+    unit,
+)
 
 STEPS = (0.05, 0.1, 0.013, 0.25, 0.5, 1.0)
 

@@ -49,10 +49,10 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from .core.engines import run_engine
-from .core.mcs import COMMANDS, RESULTS
-from .core.scan import scan_layout
-from .core.scenario import parse_scenario, read_scenario, seated_wafers
+from .core.files.mcs import COMMANDS, RESULTS
+from .core.files.scenario import parse_scenario, read_scenario, seated_wafers
+from .core.scan.engines import run_engine
+from .core.scan.layout_scan import scan_layout
 
 LOAD_PORT_PITCH = 505.0  # mm between neighbouring load ports (SEMI E15)
 STACK_PITCH = 300.0  # mm between the slot 1 seats of FOUPs stacked one above the other
@@ -206,7 +206,7 @@ def bench_fab(paper, rounds, add, loop_every=100, brep_every=1):
 
     from .cad.builder import build_document
     from .cad.document_scan import scan_document
-    from .core.mcs import Parameters
+    from .core.files.mcs import Parameters
 
     fab = fab_layout(paper)
     reference = run_engine("analytic", fab)
@@ -551,7 +551,7 @@ def mcs_poll_cost(folders, rounds=5, polls=2000):
     the median round. SPEC §9's "an idle poll costs the same" asks for this figure; a watcher
     process's CPU a second (``mcs_idle``) adds the interpreter's own wake-ups and the
     scheduler's moment, which differ from one process to the next by 2x."""
-    from .core.mcs_link import McsLink
+    from .core.files.mcs_link import McsLink
 
     def must_not_scan(command, should_stop):
         raise AssertionError(f"an idle link carried out {command!r}")
@@ -673,7 +673,7 @@ def bench_spot(paper, rounds, add):
     """SPEC §10: the paper's layout with a 1 mm round beam spot at the default accuracy
     (threshold 0.5), on the step grid and with exact edges, beside the ideal beam, ``scan_layout``
     end to end, interleaved. Rows ``paper-spot``; returns the medians in seconds (the contract: <= 20 ms)."""
-    from .core.spot import BeamSpot
+    from .core.sensor.spot import BeamSpot
 
     spot = replace(paper, spot=BeamSpot(diameter=1.0))
     exact = spot.with_scan(z_step=0.0)
@@ -704,9 +704,9 @@ def bench_sweep(paper, rounds, add, quick=False):
     beam and with a 1 mm spot, interleaved; then a Dask LocalCluster of 1 worker against one of
     2 (both started before the timing, as a user's cluster is), interleaved. Rows ``sweep``;
     returns {name: layouts a minute} and the 2-worker / 1-worker ratio."""
-    from .core import sweep
-    from .core.spot import BeamSpot
-    from .core.tolerances import read_tolerances
+    from .core.sensor.spot import BeamSpot
+    from .core.sweep import run as sweep
+    from .core.sweep.distributions import read_tolerances
     from .tolerance_study import DaskPartitions, local_cluster
 
     tolerances = read_tolerances(SWEEP_TOLERANCES)

@@ -2,7 +2,7 @@
 
 Exit status 0 on success, 2 on bad input (one line ``waferscan: error: FILE:LINE: message`` on
 stderr), 1 on an internal fault; ``waferscan calibrate`` exits 3, 4 or 5 for its own failures
-(core/calibration.py EXIT_CODES).
+(core/scan/calibration.py EXIT_CODES).
 """
 
 from __future__ import annotations
@@ -14,13 +14,21 @@ import sys
 from pathlib import Path
 
 from .addon import paper_scenario
-from .core import report
-from .core.engines import CAD_ENGINES, ENGINES
 from .core.errors import InputError
-from .core.mcs import (COMMANDS, PARAMETERS, RESULTS, Parameters, atomic_write_text,
-                       format_parameters, format_results, read_parameters)
+from .core.files import report
+from .core.files.mcs import (
+    COMMANDS,
+    PARAMETERS,
+    RESULTS,
+    Parameters,
+    atomic_write_text,
+    format_parameters,
+    format_results,
+    read_parameters,
+)
+from .core.files.text_files import check_output_path
 from .core.model import DIRECTIONS, MODES
-from .core.text_files import check_output_path
+from .core.scan.engines import CAD_ENGINES, ENGINES
 
 PROG = "waferscan"
 
@@ -63,7 +71,7 @@ def _write(path, text, option="--out"):
 
 
 def _check_engine(layout, engine, source, parameters=None):
-    from .core.engine_choice import check_engine
+    from .core.scan.engine_choice import check_engine
 
     check_engine(layout, engine, source, parameters)
 
@@ -183,7 +191,7 @@ def cmd_demo(args):
 def cmd_scan(args):
     _check_out(args.out)  # before the scan: a device, FIFO or symlink there wastes no time
     if args.plot:
-        from .signal_plot import check_plot_path
+        from .plots.signal import check_plot_path
 
         check_plot_path(args.plot)  # before the scan: a wrong suffix wastes no time
         _check_out(args.plot, "--plot")
@@ -197,7 +205,7 @@ def cmd_scan(args):
         _write(args.out, format_results(None, "SCF" if result.layout.scan.mode == "fast"
                                         else "SCS", result))
     if args.plot:
-        from .signal_plot import plot_signal  # matplotlib only when a plot is asked for
+        from .plots.signal import plot_signal  # matplotlib only when a plot is asked for
 
         _check_out(args.plot, "--plot")
         plot_signal(result, args.plot)
@@ -218,7 +226,7 @@ def cmd_calibrate(args):
     """SPEC §11: calibrate from reference wafers; exit 3, 4, 5 for the failures (docs:
     tutorials/recipes-calibration.md)."""
     from .cad.document_calibration import calibrate_input
-    from .core.calibration import EXIT_CODES, CalibrationError, format_calibration
+    from .core.scan.calibration import EXIT_CODES, CalibrationError, format_calibration
 
     _check_out(args.out)  # before the calibration
     parameters = read_parameters(args.params) if args.params else None
@@ -273,7 +281,7 @@ def cmd_crosscheck(args):
 def cmd_watch(args):
     import signal
 
-    from .core.mcs_link import StopFlag, stop_on_signals
+    from .core.files.mcs_link import StopFlag, stop_on_signals
 
     # Ctrl-C and SIGTERM stop the watcher from here on, FreeCAD's loading included: a
     # KeyboardInterrupt inside FreeCAD's start leaves its module half made.

@@ -1,6 +1,6 @@
 """``waferscan sweep``: a Monte Carlo tolerance study (SPEC §12) run on Dask, and its outputs.
 
-The numbers come from core/sweep.py (numpy only); this module loads the INPUT, runs the
+The numbers come from core/sweep/run.py (numpy only); this module loads the INPUT, runs the
 partitions on a Dask cluster (a ``distributed.LocalCluster`` on this machine's cores by
 default, or an existing scheduler), shows a progress line, and writes summary.json, the CSV
 tables and the PNG plots, each atomically.
@@ -20,13 +20,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from .core import sweep
 from .core.errors import InputError
-from .core.mcs import atomic_write_text
-from .core.tolerances import read_tolerances
+from .core.files.mcs import atomic_write_text
+from .core.sweep import run as sweep
+from .core.sweep.distributions import read_tolerances
 
 # Partitions per worker: enough for the progress line to move and the load to even out; the
-# results do not depend on it (core/sweep.py).
+# results do not depend on it (core/sweep/run.py).
 PARTITIONS_PER_WORKER = 4
 # How long (s) to wait for an existing scheduler before calling its address bad input.
 CONNECT_TIMEOUT = 10.0
@@ -55,7 +55,7 @@ def load_layout(path):
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".toml":
-        from .core.scenario import read_scenario
+        from .core.files.scenario import read_scenario
 
         return read_scenario(path)
     if suffix != ".fcstd":
@@ -146,7 +146,7 @@ def _python_for_workers():
 
 
 class DaskPartitions:
-    """A sweep's ``runner`` (core.sweep.sweep_tally) on a Dask cluster: each partition a task,
+    """A sweep's ``runner`` (core.sweep.run.sweep_tally) on a Dask cluster: each partition a task,
     its result left on the worker that computed it (a future); ``apply`` runs a function on
     each result where it lies and brings back only the answers (the digests and the few
     margins the summary needs, not the partitions' ~40 MB for 100,000 layouts). Progress is

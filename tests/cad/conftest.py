@@ -20,7 +20,7 @@ import pytest  # noqa: E402 (after FreeCAD's path)
 def paper_layout_read():
     """The paper's scenario read into a core Layout (resources/examples/paper.toml)."""
     from waferscan.addon import paper_scenario
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.scenario import read_scenario
 
     return read_scenario(paper_scenario())
 

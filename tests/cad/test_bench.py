@@ -13,8 +13,8 @@ import pytest
 
 from waferscan import bench
 from waferscan.addon import paper_scenario
-from waferscan.core import engines
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan import engines
 
 PAPER = read_scenario(paper_scenario())
 REPO = Path(__file__).resolve().parents[2]

@@ -7,13 +7,13 @@ import FreeCAD as App
 import Part
 import pytest
 
+from waferscan.addon import paper_scenario
 from waferscan.cad.bowed_solid import bowed_wafer_solid
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
-from waferscan.addon import paper_scenario
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 PAPER = read_scenario(paper_scenario())
 

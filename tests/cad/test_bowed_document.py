@@ -15,9 +15,9 @@ from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
 from waferscan.core.errors import InputError
+from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import unit
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 PAPER = replace(read_scenario(paper_scenario()), robot=None)
 BOWS = (0.3, -0.2, 0.0)  # wafers 1, 2, 3; the rest flat

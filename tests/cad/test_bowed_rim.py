@@ -21,8 +21,8 @@ import pytest
 from waferscan.cad.builder import build_document
 from waferscan.cad.crosscheck import crosscheck
 from waferscan.cad.document_scan import scan_document
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 mpmath.mp.dps = 40
 R = 150.0

@@ -6,13 +6,13 @@ import random
 import FreeCAD
 import Part
 import pytest
-
 from random_layouts import random_layout
+
 from waferscan.addon import paper_scenario
-from waferscan.core.engines import wafer_edges
-from waferscan.core.geometry import beam_hits_wafer
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.geometry.beam import beam_hits_wafer
+from waferscan.core.scan.engines import wafer_edges
+from waferscan.core.scan.layout_scan import scan_layout
 
 V = FreeCAD.Vector
 CONFUSION = Part.Precision.confusion()  # 1e-7 mm: OpenCASCADE's own "touching"

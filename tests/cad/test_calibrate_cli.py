@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.mcs import parse_parameters
+from waferscan.core.files.mcs import parse_parameters
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER_TEXT = (ROOT / "resources" / "examples" / "paper.toml").read_text()

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.mcs import apply_parameters, read_parameters, used_parameters
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.mcs import apply_parameters, read_parameters, used_parameters
+from waferscan.core.files.scenario import read_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = ROOT / "resources" / "examples" / "paper.toml"

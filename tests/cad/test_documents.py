@@ -8,17 +8,17 @@ import random
 import FreeCAD as App
 import Part
 import pytest
-
 from random_layouts import random_layout
+
+from waferscan.addon import paper_scenario
 from waferscan.cad import roles
 from waferscan.cad.builder import build_document
 from waferscan.cad.disc import NotADisc, disc_of
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
-from waferscan.addon import paper_scenario
 from waferscan.core.errors import InputError
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 PAPER = read_scenario(paper_scenario())
 

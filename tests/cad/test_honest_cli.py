@@ -223,7 +223,7 @@ normal = [0.0, 0.0, 1.0]
 diameter = 300.0
 thickness = 0.775
 """)
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.scenario import read_scenario
 
     expected = [w.name for w in read_scenario(path).wafers]
     assert expected == ["A_W01", "A_W02", "B_W01", "FREE_B", "FREE_A", "LOOSE"]
@@ -260,8 +260,9 @@ def test_crosscheck_confirms_random_layouts_with_grazing_edges():
 
     sys.path.insert(0, str(ROOT / "tests"))
     from random_layouts import random_layout
-    from waferscan.cad.crosscheck import crosscheck
+
     from waferscan.cad.builder import build_document
+    from waferscan.cad.crosscheck import crosscheck
 
     checks = {}
     for seed in range(80, 101):

@@ -1,4 +1,4 @@
-"""One validation for every reader (core.validation): values that pass their own checks but
+"""One validation for every reader (core.files.validation): values that pass their own checks but
 overflow together, and a FreeCAD layout's carrier and scanner properties, are bad input with the
 reader's own file, line, key or property — never a traceback, an empty code or a wrong one."""
 
@@ -7,13 +7,13 @@ import math
 import FreeCAD as App
 import pytest
 
+from waferscan.addon import paper_scenario
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
-from waferscan.addon import paper_scenario
 from waferscan.core.errors import InputError
-from waferscan.core.mcs import apply_parameters, parse_parameters
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.mcs import apply_parameters, parse_parameters
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 PAPER_TEXT = paper_scenario().read_text()
 PAPER = read_scenario(paper_scenario())

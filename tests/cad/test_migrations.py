@@ -4,15 +4,14 @@ version of its proxy's properties, and opening a document runs the migrations it
 
 from pathlib import Path
 
-import pytest
-
 import FreeCAD as App
+import pytest
 
 from waferscan.cad import features
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.layout_files import save_document
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
 
 PAPER = Path(__file__).resolve().parents[2] / "resources" / "examples" / "paper.toml"
 PROXIES = (features.CarrierBody, features.ScannerBeam, features.ScanSettings)

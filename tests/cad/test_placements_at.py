@@ -11,7 +11,7 @@ from waferscan.addon import paper_scenario
 from waferscan.cad.builder import build_document
 from waferscan.cad.reader import DocumentScene, read_layout
 from waferscan.cad.stepping import mover_for
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
 
 PAPER = read_scenario(paper_scenario())
 

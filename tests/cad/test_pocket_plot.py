@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from waferscan.cli import paper_scenario
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "resources" / "examples" / "slow_jab.toml"
@@ -35,7 +35,7 @@ def test_the_panels_draw_the_beams_where_they_met_the_wafer():
         warnings.simplefilter("ignore", UserWarning)
         import matplotlib.pyplot as plt
 
-    from waferscan.pocket_plot import BEAM_STYLES, draw_pockets
+    from waferscan.plots.pockets import BEAM_STYLES, draw_pockets
 
     figure = plt.figure()
     drawn = []

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "resources" / "examples" / "slow_jab.toml"
 RESULT = scan_layout(read_scenario(EXAMPLE))
@@ -24,7 +24,7 @@ def test_the_panels_mark_each_tines_path_inside_the_wafer():
         warnings.simplefilter("ignore", UserWarning)
         import matplotlib.pyplot as plt
 
-    from waferscan.pocket_plot import STRIKE, draw_pockets
+    from waferscan.plots.pockets import STRIKE, draw_pockets
 
     figure = plt.figure()
     drawn = []

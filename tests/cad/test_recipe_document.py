@@ -17,8 +17,8 @@ from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
 from waferscan.core import recipe
 from waferscan.core.errors import InputError
+from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import MappingTolerances
-from waferscan.core.scenario import read_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = replace(read_scenario(paper_scenario()), robot=None)

@@ -7,15 +7,15 @@ import FreeCAD as App
 import numpy as np
 import pytest
 
+from waferscan.addon import paper_scenario
 from waferscan.cad import roles
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import DocumentScene, read_layout
 from waferscan.cad.robot import RobotMover
-from waferscan.addon import paper_scenario
+from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import RobotSpec
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.robot.kinematics import WaferRobot
 
 PAPER = read_scenario(paper_scenario())

@@ -11,14 +11,14 @@ from pathlib import Path
 import FreeCAD as App
 import pytest
 
+from waferscan.addon import paper_scenario
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import read_layout
-from waferscan.addon import paper_scenario
 from waferscan.core.errors import InputError
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
-from waferscan.core.spot import Amplifier, BeamSpot
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = read_scenario(paper_scenario())

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from waferscan.cli import paper_scenario
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
-from waferscan.core.spot import BeamSpot, BlockedFraction
-from waferscan.signal_plot import signal_samples
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.spot import BeamSpot, BlockedFraction
+from waferscan.plots.signal import signal_samples
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -13,12 +13,11 @@ import pytest
 
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import mover_for, scan_document
-from waferscan.cad.reader import beam_from
 from waferscan.cad.pocket_probe import RobotArm, ScannerArm
-from waferscan.cad.reader import DocumentScene, read_layout
-from waferscan.core import slow_scan
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.cad.reader import DocumentScene, beam_from, read_layout
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan import slow_scan
+from waferscan.core.scan.layout_scan import scan_layout
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "resources" / "examples" / "slow_jab.toml"
@@ -186,7 +185,7 @@ def test_a_jab_beyond_the_arms_reach_is_refused_naming_the_joint():
     from waferscan.core.errors import InputError
 
     # Wafers of 150 mm: the fork's tines (x = ±80) pass beside them, so a 600 mm jab is not
-    # refused for striking them (core/validation.py) and meets the arm's reach instead.
+    # refused for striking them (core/files/validation.py) and meets the arm's reach instead.
     carrier = replace(LAYOUT.scanned_carrier, wafer_diameter=150.0, support_span=140.0)
     small = build_document(replace(LAYOUT, carriers=(carrier,), wafers=()), "SlowScanReach")
     try:
@@ -200,7 +199,7 @@ def test_a_jab_beyond_the_arms_reach_is_refused_naming_the_joint():
 
 
 def test_the_documents_reader_refuses_a_jab_into_the_seated_wafers(doc):
-    # One check for every reader (core/validation.py): the tines (the beam's ends at x = ±80,
+    # One check for every reader (core/files/validation.py): the tines (the beam's ends at x = ±80,
     # y = 240) reach a seated wafer's rim after 400 - sqrt(150² - 80²) - 240 = 33.114 mm.
     from waferscan.core.errors import InputError
 

@@ -7,9 +7,9 @@ import os
 import subprocess
 from pathlib import Path
 
-from waferscan.core import sweep
-from waferscan.core.scenario import read_scenario
-from waferscan.core.tolerances import read_tolerances
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.sweep import run as sweep
+from waferscan.core.sweep.distributions import read_tolerances
 
 REPO = Path(__file__).resolve().parents[2]
 PAPER = REPO / "resources" / "examples" / "paper.toml"

@@ -14,7 +14,7 @@ import pytest
 from waferscan.cad import roles
 from waferscan.cad.layout_files import open_layout
 from waferscan.cad.mcs_watch import document_scanner
-from waferscan.core.mcs_link import McsLink
+from waferscan.core.files.mcs_link import McsLink
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = ROOT / "resources" / "examples" / "paper.toml"
@@ -130,7 +130,7 @@ def test_watch_command_end_to_end(tmp_path):
 
 WRITER = """
 import sys
-from waferscan.core.mcs import atomic_write_text
+from waferscan.core.files.mcs import atomic_write_text
 versions = [("A" * 200 + "\\n") * 500, ("B" * 100 + "\\n") * 900]
 print("ready", flush=True)
 i = 0

@@ -8,11 +8,11 @@ import os
 import FreeCAD as App
 import pytest
 
+from waferscan.addon import paper_scenario
 from waferscan.cad import mcs_watch
 from waferscan.cad.layout_files import open_layout
 from waferscan.cad.mcs_watch import document_scanner
-from waferscan.core.mcs_link import McsLink
-from waferscan.addon import paper_scenario
+from waferscan.core.files.mcs_link import McsLink
 
 CODE = "1101221001220001010000010"
 

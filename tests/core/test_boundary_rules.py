@@ -9,10 +9,20 @@ import random
 
 import pytest
 
-from waferscan.core.mapping import (BOUNDARY, CROSS, DOUBLE, POSITION_ERROR, PRESENT, THIN,
-                                    WAFERSCAN, SlotPlan, judge_run, map_slots)
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.mapping import (
+    BOUNDARY,
+    CROSS,
+    DOUBLE,
+    POSITION_ERROR,
+    PRESENT,
+    THIN,
+    WAFERSCAN,
+    SlotPlan,
+    judge_run,
+    map_slots,
+)
+from waferscan.core.scan.layout_scan import scan_layout
 
 T = 0.775
 SEATS = (300.0, 310.0, 320.0)

@@ -6,13 +6,12 @@ import random
 from dataclasses import replace
 
 import pytest
-
-from waferscan.core.bow import beam_hits_bowed_wafer
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario, read_scenario
-from waferscan.core.spot import BeamSpot
-
 from sensor_layouts import SEAT, T, one_wafer
+
+from waferscan.core.files.scenario import parse_scenario, read_scenario
+from waferscan.core.geometry.bow import beam_hits_bowed_wafer
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.spot import BeamSpot
 
 PAPER = "resources/examples/paper.toml"
 DEPTH = 16.6  # the beam's chord lies R - DEPTH from the wafer's centre

@@ -8,12 +8,19 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.calibration import (CHECK_FAILED, EXIT_CODES, NO_BOTTOM_WAFER, NO_TOP_WAFER,
-                                        REPORTED_KEYS, CalibrationError, calibrate,
-                                        format_calibration)
-from waferscan.core.mcs import apply_parameters, parse_parameters
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.files.mcs import apply_parameters, parse_parameters
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.scan.calibration import (
+    CHECK_FAILED,
+    EXIT_CODES,
+    NO_BOTTOM_WAFER,
+    NO_TOP_WAFER,
+    REPORTED_KEYS,
+    CalibrationError,
+    calibrate,
+    format_calibration,
+)
+from waferscan.core.scan.layout_scan import scan_layout
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"
@@ -153,7 +160,7 @@ def test_the_failures_have_distinct_exit_codes_other_than_bad_input():
 
 
 def test_the_readme_example_misreads_taught_and_maps_calibrated():
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.scenario import read_scenario
 
     layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
     assert scan_layout(layout).code == "1100100005000050000500055"
@@ -171,7 +178,7 @@ CASES = ROOT / "tests" / "data" / "calibration"
 
 
 def case(name):
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.scenario import read_scenario
 
     return read_scenario(CASES / f"{name}.toml")
 
@@ -255,9 +262,9 @@ def test_the_recipe_is_kept_to_the_encoders_micrometre_and_json_keeps_the_measur
     recipe the check scan runs with, --out writes and a person reads is in micrometres
     (correction to 1e-6): 10.021 and 0.964286, with no float noise (1.0499999999999998 for
     t + Δt); JSON keeps the measurement at full precision beside it."""
-    from waferscan.core.mcs import format_parameters
-    from waferscan.core.report import calibration_dict
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.mcs import format_parameters
+    from waferscan.core.files.report import calibration_dict
+    from waferscan.core.files.scenario import read_scenario
 
     layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
     calibration = calibrate(layout, scan_layout)

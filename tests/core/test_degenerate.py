@@ -3,13 +3,14 @@
 import math
 
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from waferscan.core.engines import analytic_engine, loop_engine, vector_engine
 from waferscan.core.errors import InputError
+from waferscan.core.files.scenario import parse_scenario
 from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer, unit
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.scan.engines import analytic_engine, loop_engine, vector_engine
+from waferscan.core.scan.layout_scan import scan_layout
 
 CARRIER = Carrier("C", 3, 10.0, 100.0, (0.0, 0.0), 300.0, 0.7)
 

@@ -6,13 +6,20 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-
 from random_layouts import random_layout
-from waferscan.core.engines import (StepHits, analytic_engine, loop_engine, run_engine,
-                                    runs_from_blocked, runs_from_intervals, vector_engine,
-                                    wafer_edges)
-from waferscan.core.geometry import accessible, beam_hits_wafer
+
+from waferscan.core.geometry.beam import accessible, beam_hits_wafer
 from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer
+from waferscan.core.scan.engines import (
+    StepHits,
+    analytic_engine,
+    loop_engine,
+    run_engine,
+    runs_from_blocked,
+    runs_from_intervals,
+    vector_engine,
+    wafer_edges,
+)
 
 SEEDS = range(400)
 

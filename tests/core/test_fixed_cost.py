@@ -9,11 +9,12 @@ import math
 import random
 
 from random_layouts import random_layout
-from waferscan.core.engines import (SETTLED_MARGIN, _level_edger, _settler, wafer_edges)
-from waferscan.core.geometry import TOUCH_TOLERANCE, accessible, accessible_wafers
+
+from waferscan.core.geometry.beam import TOUCH_TOLERANCE, accessible, accessible_wafers
 from waferscan.core.mapping import LIMIT_SLACK, SlotPlan, unscanned_slots
 from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer
-from waferscan.core.scan_result import _carrier_protrusions, _carrier_wafers, protrusion
+from waferscan.core.scan.engines import SETTLED_MARGIN, _level_edger, _settler, wafer_edges
+from waferscan.core.scan.scan_result import _carrier_protrusions, _carrier_wafers, protrusion
 
 
 def _level_layout(rng, emitter, heading, length, step=0.05):

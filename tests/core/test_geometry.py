@@ -7,8 +7,14 @@ import random
 import numpy as np
 import pytest
 
-from waferscan.core.geometry import (beam_hits_wafer, beam_hits_wafers, paper_beam_hits_wafer,
-                                     translation_range, wafer_bounds, wafer_columns)
+from waferscan.core.geometry.beam import (
+    beam_hits_wafer,
+    beam_hits_wafers,
+    paper_beam_hits_wafer,
+    translation_range,
+    wafer_bounds,
+    wafer_columns,
+)
 from waferscan.core.model import Beam, Wafer, unit
 
 

@@ -6,14 +6,14 @@ from dataclasses import replace
 
 import pytest
 
-from waferscan.core.engines import ENGINES
-from waferscan.core.geometry import beam_hits_wafer, paper_beam_hits_wafer
+from waferscan.core.files.mcs import format_results
+from waferscan.core.files.report import result_dict
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.geometry.beam import beam_hits_wafer, paper_beam_hits_wafer
 from waferscan.core.mapping import E87, UNSCANNED, SlotPlan, map_slots
-from waferscan.core.mcs import format_results
 from waferscan.core.model import Beam, ScanParameters, Wafer
-from waferscan.core.report import result_dict
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.scan.engines import ENGINES
+from waferscan.core.scan.layout_scan import scan_layout
 
 SEAT1 = 100.0
 PITCH = 10.0
@@ -313,7 +313,7 @@ def test_front_reach_is_the_bowed_solids_frontmost_point(tilt_deg, bow):
 
     import numpy as np
 
-    from waferscan.core.scan_result import front_reach
+    from waferscan.core.scan.scan_result import front_reach
 
     radius, t = 150.0, 0.775
     along = math.sin(math.radians(tilt_deg))

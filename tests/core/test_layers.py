@@ -43,7 +43,7 @@ def _imports():
 def test_the_graph_is_read():
     graph = _imports()
     assert "waferscan.cad.reader" in graph["waferscan.cad.document_scan"]
-    assert "waferscan.core.rules" in graph["waferscan.core.engines"]
+    assert "waferscan.core.rules" in graph["waferscan.core.scan.engines"]
 
 
 def test_only_the_entry_points_import_the_command_line():
@@ -82,3 +82,44 @@ def test_no_import_cycle():
     packages = {m for m in graph if (PACKAGE.parent / m.replace(".", "/") / "__init__.py").exists()}
     cycles = [c for c in cycles if not packages & set(c)]
     assert cycles == [], cycles
+
+
+# core's families, bottom first (ARCHITECTURE.md): each imports only the families below it. The
+# base is core's own modules (model, errors, rules, schema, recipe, mapping).
+CORE_ORDER = ("base", "geometry", "sensor", "scan", "files", "sweep")
+
+
+def _family(module):
+    parts = module.split(".")
+    if parts[:2] != ["waferscan", "core"] or len(parts) == 2:
+        return None
+    if len(parts) > 3 and parts[2] in CORE_ORDER:
+        return parts[2]
+    return "base" if len(parts) == 3 else parts[2]
+
+
+def test_core_is_made_of_its_families_alone():
+    modules = [m for m in _imports() if m.startswith("waferscan.core.")]
+    families = {_family(m) for m in modules if m.count(".") >= 3}
+    assert families <= set(CORE_ORDER), families - set(CORE_ORDER)
+    # every family is a folder with a docstring saying its job, and the base holds no other module
+    for family in CORE_ORDER[1:]:
+        init = PACKAGE / "core" / family / "__init__.py"
+        assert ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))), family
+    base = sorted(p.stem for p in (PACKAGE / "core").glob("*.py") if p.stem != "__init__")
+    assert base == ["errors", "mapping", "model", "recipe", "rules", "schema"]
+
+
+def test_core_families_import_only_the_families_below():
+    graph = _imports()
+    wrong = []
+    for module, targets in graph.items():
+        mine = _family(module)
+        if mine is None or module in ("waferscan.core", *(f"waferscan.core.{f}" for f in CORE_ORDER)):
+            continue
+        for target in targets:
+            theirs = _family(target)
+            if theirs is not None and CORE_ORDER.index(theirs) > CORE_ORDER.index(mine):
+                wrong.append((module, target))
+    assert wrong == []
+

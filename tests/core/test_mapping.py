@@ -3,9 +3,9 @@ physically from a scenario and found by scanning."""
 
 import pytest
 
+from waferscan.core.files.scenario import parse_scenario
 from waferscan.core.mapping import SlotPlan, judge_run, map_slots
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 T = 0.7
 PLAN = SlotPlan(slot_count=5, pitch=10.0, first_slot_z=100.0, wafer_thickness=T,

@@ -7,15 +7,22 @@ import stat
 from pathlib import Path
 
 import pytest
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
-from waferscan.core import mcs
 from waferscan.core.errors import InputError
-from waferscan.core.mcs import (apply_parameters, atomic_write_text, format_parameters,
-                                format_results, parse_commands, parse_parameters,
-                                used_parameters)
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario, read_scenario
+from waferscan.core.files import mcs
+from waferscan.core.files.mcs import (
+    apply_parameters,
+    atomic_write_text,
+    format_parameters,
+    format_results,
+    parse_commands,
+    parse_parameters,
+    used_parameters,
+)
+from waferscan.core.files.scenario import parse_scenario, read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"
@@ -75,9 +82,9 @@ ALL_KEYS_VALUES = {
 def test_every_key_is_read_with_bom_crlf_comments_and_blank_lines():
     # SPEC §10's sensor keys are read in tests/core/test_sensor_settings.py, SPEC §13's slow-scan
     # keys in tests/core/test_slow_scan.py.
-    from waferscan.core.sensor_settings import SETTING_KEYS
-    from waferscan.core.slow_scan import SETTING_KEYS as SLOW_KEYS
     from waferscan.core.recipe import RECIPE_KEYS  # SPEC §11: tests/core/test_recipe_keys.py
+    from waferscan.core.scan.slow_scan import SETTING_KEYS as SLOW_KEYS
+    from waferscan.core.sensor.settings import SETTING_KEYS
     assert set(ALL_KEYS_VALUES) | set(SETTING_KEYS) | set(SLOW_KEYS) | set(RECIPE_KEYS) == \
         set(mcs.PARAMETER_KEYS)
     p = parse_parameters(ALL_KEYS_TEXT, "parameters.txt")

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from waferscan.core.errors import InputError
-from waferscan.core.mcs_link import McsLink, answered_seq
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.mcs_link import McsLink, answered_seq
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 PAPER = read_scenario(Path(__file__).resolve().parents[2] / "resources/examples/paper.toml")
 RESULT = scan_layout(PAPER)

@@ -8,11 +8,11 @@ import stat
 
 import pytest
 
-from waferscan.core import mcs_link
-from waferscan.core.mcs_link import FolderBusy, McsLink, answered_seq
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
 from waferscan.addon import paper_scenario
+from waferscan.core.files import mcs_link
+from waferscan.core.files.mcs_link import FolderBusy, McsLink, answered_seq
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 RESULT = scan_layout(read_scenario(paper_scenario()))
 

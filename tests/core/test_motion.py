@@ -4,12 +4,11 @@ hand-checkable cases."""
 import math
 
 import pytest
-
-from waferscan.core.motion import Stroke
-from waferscan.core.scan import scan_layout
-from waferscan.core.spot import Amplifier, BeamSpot
-
 from sensor_layouts import SEAT, T, one_wafer, oracle_edges
+
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.motion import Stroke
+from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
 
 def test_constant_speed_lag_is_speed_times_response():

@@ -6,9 +6,9 @@ from pathlib import Path
 import pytest
 
 from waferscan.cli import demo_checks, paper_scenario
-from waferscan.core.report import PAPER_CODE, PAPER_TABLE_1
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.report import PAPER_CODE, PAPER_TABLE_1
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 LAYOUT = read_scenario(paper_scenario())
 STEP = 0.05

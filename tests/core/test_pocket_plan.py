@@ -1,4 +1,4 @@
-"""A pocket seen from above (core/pocket_plan.py): the beams and the points where they met the
+"""A pocket seen from above (core/scan/pocket_plan.py): the beams and the points where they met the
 wafer, in the carrier's own plan coordinates, against a hand computation on slow_jab.toml."""
 
 import math
@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core import pocket_plan as plans
+from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import Beam
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.scan import pocket_plan as plans
+from waferscan.core.scan.layout_scan import scan_layout
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "resources" / "examples" / "slow_jab.toml"
 LAYOUT = read_scenario(EXAMPLE)

@@ -11,11 +11,16 @@ import pytest
 
 from waferscan.core import recipe
 from waferscan.core.errors import InputError
+from waferscan.core.files.mcs import (
+    apply_parameters,
+    format_parameters,
+    format_results,
+    parse_parameters,
+    used_parameters,
+)
+from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.mapping import BOUNDARY
-from waferscan.core.mcs import (apply_parameters, format_parameters, format_results,
-                                parse_parameters, used_parameters)
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario, read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"

@@ -5,11 +5,12 @@ import doctest
 
 import pytest
 
-from waferscan.core import errors, geometry, rules
-from waferscan.core.engines import ENGINES
+from waferscan.core import errors, rules
 from waferscan.core.errors import EngineError, InputError, ShapeError, WaferScanError
-from waferscan.core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters)
-from waferscan.core.validation import carrier_problems
+from waferscan.core.files.validation import carrier_problems
+from waferscan.core.geometry import beam as geometry
+from waferscan.core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameters
+from waferscan.core.scan.engines import ENGINES
 
 
 @pytest.mark.parametrize("module", [rules, errors, geometry])
@@ -71,7 +72,7 @@ def test_a_scenario_without_a_mapping_table_gets_the_default_mapping_given():
     """open_scenario's rule (the preferences' tolerances where the file sets none), read in the
     one parse of the file."""
     from waferscan.addon import paper_scenario
-    from waferscan.core.scenario import parse_scenario
+    from waferscan.core.files.scenario import parse_scenario
 
     paper = paper_scenario().read_text(encoding="utf-8")
     mapping_table = "[mapping]\nposition_tolerance = 0.5\nprotrusion_limit = 1.0\n"

@@ -7,15 +7,15 @@ import tracemalloc
 from dataclasses import replace
 
 import pytest
-
 from random_layouts import random_layout
-from waferscan.bench import fab_layout, stack_layout
+
 from waferscan.addon import paper_scenario
-from waferscan.core.engines import StepHits, loop_engine, run_engine, vector_engine
-from waferscan.core.geometry import accessible, accessible_wafers
-from waferscan.core.scan import scan_layout
+from waferscan.bench import fab_layout, stack_layout
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.geometry.beam import accessible, accessible_wafers
 from waferscan.core.model import Wafer
-from waferscan.core.scenario import read_scenario
+from waferscan.core.scan.engines import StepHits, loop_engine, run_engine, vector_engine
+from waferscan.core.scan.layout_scan import scan_layout
 
 
 def test_accessible_wafers_is_the_accessibility_check_wafer_by_wafer():

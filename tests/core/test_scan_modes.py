@@ -5,8 +5,8 @@ from dataclasses import replace
 import pytest
 
 from waferscan.addon import paper_scenario
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 LAYOUT = read_scenario(paper_scenario())
 REFERENCE = scan_layout(LAYOUT)

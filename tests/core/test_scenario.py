@@ -4,11 +4,12 @@ import math
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from waferscan.core.errors import InputError
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario, read_scenario
+from waferscan.core.files.scenario import parse_scenario, read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER_TEXT = (ROOT / "resources/examples/paper.toml").read_text()

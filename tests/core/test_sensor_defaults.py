@@ -4,10 +4,10 @@ scenario's [sensor] and [scan] tables leave unset, group by group, and nothing e
 import math
 from pathlib import Path
 
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario
-from waferscan.core.sensor_settings import defaults_not_given, values_with_defaults
-from waferscan.core.spot import Amplifier, BeamSpot
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.settings import defaults_not_given, values_with_defaults
+from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
 PAPER = (Path(__file__).resolve().parents[2] / "resources" / "examples" / "paper.toml")
 TEXT = PAPER.read_text(encoding="utf-8")

@@ -6,11 +6,16 @@ from pathlib import Path
 import pytest
 
 from waferscan.core.errors import InputError
-from waferscan.core.mcs import apply_parameters, format_parameters, format_results, parse_parameters
-from waferscan.core.report import result_dict
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario, read_scenario
-from waferscan.core.spot import Amplifier, BeamSpot
+from waferscan.core.files.mcs import (
+    apply_parameters,
+    format_parameters,
+    format_results,
+    parse_parameters,
+)
+from waferscan.core.files.report import result_dict
+from waferscan.core.files.scenario import parse_scenario, read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
 PAPER_PATH = Path(__file__).resolve().parents[2] / "resources" / "examples" / "paper.toml"
 PAPER_TEXT = PAPER_PATH.read_text()

@@ -5,10 +5,9 @@ from dataclasses import replace
 
 import pytest
 
-from waferscan.core import slow_scan
-from waferscan.core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters,
-                                  Wafer)
-from waferscan.core.scan import scan_layout, slot_plan
+from waferscan.core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer
+from waferscan.core.scan import slow_scan
+from waferscan.core.scan.layout_scan import scan_layout, slot_plan
 
 R, T = 150.0, 0.7
 SEAT = 300.0
@@ -200,9 +199,9 @@ def test_slow_scan_takes_longer_than_fast_and_adds_the_arm_moves():
 
 def test_without_jab_or_sweep_the_mcs_files_are_as_before():
     from waferscan.cli import paper_scenario
-    from waferscan.core.mcs import RESULT_COLUMNS, format_parameters, format_results
-    from waferscan.core.report import result_dict
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.mcs import RESULT_COLUMNS, format_parameters, format_results
+    from waferscan.core.files.report import result_dict
+    from waferscan.core.files.scenario import read_scenario
 
     paper = read_scenario(paper_scenario())
     for mode in ("fast", "slow"):
@@ -219,8 +218,8 @@ def test_without_jab_or_sweep_the_mcs_files_are_as_before():
 def test_parameters_txt_sets_and_refuses_slow_settings():
     from waferscan.cli import paper_scenario
     from waferscan.core.errors import InputError
-    from waferscan.core.mcs import apply_parameters, format_parameters, parse_parameters
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.mcs import apply_parameters, format_parameters, parse_parameters
+    from waferscan.core.files.scenario import read_scenario
 
     paper = read_scenario(paper_scenario())
     layout = apply_parameters(paper, parse_parameters("mode = slow\njab = 6.25\nsweep = 30\n"
@@ -259,7 +258,7 @@ def test_a_blind_jab_keeps_the_load_ports_protrusion():
     a jab and slow with a 5 mm jab all read 6 in slot 8 (the jab starts inside the wafers, so
     it is blind: it cannot clear a wafer the load port sees sticking out)."""
     from waferscan.cli import paper_scenario
-    from waferscan.core.scenario import parse_scenario
+    from waferscan.core.files.scenario import parse_scenario
 
     text = paper_scenario().read_text().replace('load = "1101221001220001010000010"',
                                                 'load = "1101221601220001010000010"')

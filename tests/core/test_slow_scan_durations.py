@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.files.scenario import parse_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = (ROOT / "resources" / "examples" / "slow_jab.toml").read_text()
@@ -17,7 +17,7 @@ NO_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", EXAMPLE)
 def test_a_fast_scan_with_a_jab_says_it_made_none_and_what_a_slow_one_would_take():
     from dataclasses import replace
 
-    from waferscan.core.scan import scan_layout
+    from waferscan.core.scan.layout_scan import scan_layout
 
     slow = parse_scenario(NO_ROBOT, "s.toml")
     fast = replace(slow, scan=replace(slow.scan, mode="fast"))

@@ -1,6 +1,6 @@
 """A jab or a sweep that makes no sense with the layout's beam or carrier is bad input (SPEC §13,
 SPEC §7): the scenario, parameters.txt and the command line name the file, the line and the
-value, exit status 2, no traceback. One check (core/validation.py) for every reader."""
+value, exit status 2, no traceback. One check (core/files/validation.py) for every reader."""
 
 import math
 import os
@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from waferscan.core.errors import InputError
-from waferscan.core.mcs import apply_parameters, parse_parameters
-from waferscan.core.scenario import parse_scenario
+from waferscan.core.files.mcs import apply_parameters, parse_parameters
+from waferscan.core.files.scenario import parse_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = (ROOT / "resources" / "examples" / "slow_jab.toml").read_text()

@@ -1,4 +1,4 @@
-"""Sweeps (SPEC §12): the vectorised draw-scan-map of core/sweep.py against the scalar path
+"""Sweeps (SPEC §12): the vectorised draw-scan-map of core/sweep/run.py against the scalar path
 (``scan_layout`` + ``map_slots`` on each sampled layout built as a normal Layout), closed-form
 rates within their 95 % intervals, and the same numbers for any grouping of the blocks."""
 
@@ -8,12 +8,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from waferscan.core import sweep
+from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.mapping import BOUNDARY, CROSS, PRESENT, WAFERSCAN
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import parse_scenario, read_scenario
-from waferscan.core.spot import BeamSpot
-from waferscan.core.tolerances import parse_tolerances
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.sensor.spot import BeamSpot
+from waferscan.core.sweep import run as sweep
+from waferscan.core.sweep.distributions import parse_tolerances
 
 PAPER = "resources/examples/paper.toml"
 

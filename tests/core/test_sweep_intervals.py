@@ -22,9 +22,9 @@ import mpmath
 import numpy as np
 import pytest
 
-from waferscan.core import sweep
-from waferscan.core.scenario import parse_scenario
-from waferscan.core.tolerances import parse_tolerances
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.sweep import run as sweep
+from waferscan.core.sweep.distributions import parse_tolerances
 
 SEEDS = 100
 LAYOUTS = 200

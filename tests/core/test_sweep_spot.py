@@ -1,4 +1,4 @@
-"""Sweeps with a beam spot (core/sweep_spot.py): the array translation ranges are the scalar
+"""Sweeps with a beam spot (core/sweep/spot_scan.py): the array translation ranges are the scalar
 ``translation_range``'s floats bit for bit, and a block of sampled layouts with a tilted beam,
 tilted wafers and a 1 mm spot maps exactly as the scalar path maps each layout."""
 
@@ -8,14 +8,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from waferscan.core import spot as spot_module
-from waferscan.core import sweep, sweep_spot
-from waferscan.core.geometry import TOUCH_TOLERANCE, translation_range
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.geometry.beam import TOUCH_TOLERANCE, translation_range
 from waferscan.core.mapping import BOUNDARY, WAFERSCAN
 from waferscan.core.model import Beam, Wafer
-from waferscan.core.scenario import read_scenario
-from waferscan.core.spot import Amplifier, BeamSpot
-from waferscan.core.tolerances import parse_tolerances
+from waferscan.core.sensor import spot as spot_module
+from waferscan.core.sensor.spot import Amplifier, BeamSpot
+from waferscan.core.sweep import run as sweep
+from waferscan.core.sweep import spot_scan as sweep_spot
+from waferscan.core.sweep.distributions import parse_tolerances
 
 PAPER = "resources/examples/paper.toml"
 
@@ -272,7 +273,7 @@ def test_the_lean_path_runs_and_builds_most_groups_from_the_table(monkeypatch):
 
 
 def scan_layout_runs(layout):
-    from waferscan.core.scan import scan_layout
+    from waferscan.core.scan.layout_scan import scan_layout
 
     return scan_layout(layout).runs
 

@@ -10,11 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core import slow_scan
+from waferscan.core.files.report import result_dict
+from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer
-from waferscan.core.report import result_dict
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.scan import slow_scan
+from waferscan.core.scan.layout_scan import scan_layout
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "resources" / "examples" / "slow_jab.toml"
 EXAMPLE_LAYOUT = read_scenario(EXAMPLE)
@@ -242,7 +242,7 @@ def test_every_channel_says_it_json_results_txt_and_stderr(tmp_path):
 
 @pytest.mark.parametrize("slot, center", [(1, (0.0, 0.0)), (3, (3.0, 0.0)), (8, (0.0, -5.0))])
 def test_the_plan_draws_each_tines_path_inside_the_wafer(slot, center):
-    from waferscan.core import pocket_plan as plans
+    from waferscan.core.scan import pocket_plan as plans
 
     plan = plans.pocket_plan(EXAMPLE_RESULT, slot)
     probe = next(p for p in EXAMPLE_RESULT.pockets if p.slot == slot)
@@ -265,6 +265,6 @@ def test_the_plan_draws_each_tines_path_inside_the_wafer(slot, center):
 
 
 def test_a_pocket_without_a_wafer_draws_no_strike():
-    from waferscan.core import pocket_plan as plans
+    from waferscan.core.scan import pocket_plan as plans
 
     assert plans.pocket_plan(EXAMPLE_RESULT, 13).strikes == ()

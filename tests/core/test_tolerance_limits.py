@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from waferscan.core.errors import InputError
-from waferscan.core.tolerances import parse_tolerances
+from waferscan.core.sweep.distributions import parse_tolerances
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = ROOT / "resources" / "examples" / "paper.toml"

@@ -300,7 +300,7 @@ def scenario_with(fragment, base="resources/examples/paper.toml"):
     each key of the fragment goes into the scenario's first table of the same header, so a
     fragment that shows a few keys of [sensor], [scan] and [[carrier]] is read as a whole
     scenario by WaferScan's own reader."""
-    from waferscan.core.scenario import parse_scenario
+    from waferscan.core.files.scenario import parse_scenario
 
     lines = (ROOT / base).read_text(encoding="utf-8").split("\n")
     header, added = None, {}

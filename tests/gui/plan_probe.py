@@ -7,14 +7,13 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, result, start  # noqa: E402
-
 import FreeCADGui as Gui  # noqa: E402
+from probe_steps import artifact, finish, result, start  # noqa: E402
 
 
 def begin():
-    from waferscan.core.scan import scan_layout
-    from waferscan.core.scenario import read_scenario
+    from waferscan.core.files.scenario import read_scenario
+    from waferscan.core.scan.layout_scan import scan_layout
     from waferscan.gui.plan_view import BEAM_STYLES, STRIKE
     from waferscan.gui.results_view import SlotCodeDialog
 

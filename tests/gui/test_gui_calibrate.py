@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.calibration import calibrate
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.calibration import calibrate
+from waferscan.core.scan.layout_scan import scan_layout
 
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("calibrate_probe.py")

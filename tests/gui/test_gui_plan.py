@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "resources" / "examples" / "slow_jab.toml"
@@ -138,7 +138,7 @@ def test_a_pocket_the_probes_never_blocked_shows_its_wafer_and_no_contact(gui):
 
 
 def test_the_dialog_shows_the_fast_and_slow_durations_side_by_side(gui):
-    from waferscan.core import slow_scan
+    from waferscan.core.scan import slow_scan
 
     layout = RESULT.layout
     fast = slow_scan.fast_duration(layout.scan)

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core import slow_scan
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan import slow_scan
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "resources" / "examples" / "slow_jab.toml"
@@ -57,7 +57,7 @@ def test_after_the_pockets_the_results_open_and_a_screenshot_of_a_jab_is_left(gu
 
 
 def test_the_panel_says_where_the_sweep_turns_a_tine_into_a_wafer(gui):
-    from waferscan.core.scan import scan_layout
+    from waferscan.core.scan.layout_scan import scan_layout
 
     lines = [w for w in scan_layout(LAYOUT).warnings if "a tine" in w]
     assert len(lines) == 3  # the seated pockets together, slot 3 and slot 8
@@ -66,7 +66,7 @@ def test_the_panel_says_where_the_sweep_turns_a_tine_into_a_wafer(gui):
 
 
 def test_the_results_table_shows_front_and_sweep(gui):
-    from waferscan.core.scan import scan_layout
+    from waferscan.core.scan.layout_scan import scan_layout
 
     assert gui["headers"][-3:] == ["Front [mm]", "Sweep first [°]", "Sweep last [°]"]
     result = scan_layout(LAYOUT)

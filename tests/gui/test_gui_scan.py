@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
+from waferscan.addon import paper_scenario
 from waferscan.cad.crosscheck import crosscheck
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.layout_files import opened_layout
-from waferscan.addon import paper_scenario
 from waferscan.core.mapping import E87
 
 REPO = Path(__file__).resolve().parents[2]
@@ -83,7 +83,7 @@ def test_the_results_survive_save_and_reload_as_a_spreadsheet(gui, saved, headle
 
 
 def test_states_are_coloured_and_a_row_selects_its_wafer(gui):
-    from waferscan.core.report import STATE_COLOURS
+    from waferscan.core.files.report import STATE_COLOURS
 
     colour = {code: "#%02x%02x%02x" % rgb for code, rgb in STATE_COLOURS.items()}
     codes = [int(c) for c in "1101221001220001010000010"]

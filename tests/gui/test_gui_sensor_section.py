@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.spot import DEFAULT_AMPLIFIER
+from waferscan.core.sensor.spot import DEFAULT_AMPLIFIER
 
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("sensor_section_probe.py")

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 # The colours of gui/signal_view.py (which imports Qt, so not in this process).
 TRACE, THRESHOLD_ON = (30, 100, 200), (200, 40, 40)

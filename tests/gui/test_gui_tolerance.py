@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from waferscan.core import sweep
-from waferscan.core.scenario import read_scenario
-from waferscan.core.tolerances import read_tolerances
+from waferscan.core.files.scenario import read_scenario
+from waferscan.core.sweep import run as sweep
+from waferscan.core.sweep.distributions import read_tolerances
 
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("tolerance_probe.py")

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
+from waferscan.core.files.report import STATE_COLOURS
+from waferscan.core.files.scenario import read_scenario
 from waferscan.core.mapping import UNSCANNED
-from waferscan.core.report import STATE_COLOURS
-from waferscan.core.scan import scan_layout
-from waferscan.core.scenario import read_scenario
+from waferscan.core.scan.layout_scan import scan_layout
 
 REPO = Path(__file__).resolve().parents[2]
 PAPER = REPO / "resources" / "examples" / "paper.toml"

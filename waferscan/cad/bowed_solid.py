@@ -1,5 +1,5 @@
 """A bowed wafer as an OpenCASCADE solid of revolution (SPEC §10), for B-rep cross-checks of
-the closed forms in core/bow.py, and as the document object that draws a bowed wafer bowed.
+the closed forms in core/geometry/bow.py, and as the document object that draws a bowed wafer bowed.
 
 In the wafer's frame (origin the centre of the rim's bottom circle, Z its normal) the bottom
 surface is z = bow (1 - r²/R²): a quadratic Bezier with poles (0, bow), (R/2, bow), (R, 0)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..core.engines import geometric_edges, wafer_edges
+from ..core.scan.engines import geometric_edges, wafer_edges
 from .bowed_solid import bowed_blocked, bowed_wafer_solid
 from .brep import TOUCH, brep_blocked
 from .document_scan import scan_document
@@ -108,7 +108,7 @@ def crosscheck(doc, result=None):
         # threshold crossings of b(z), which the tests check against closed forms and rays.
         from dataclasses import replace
 
-        from ..core.scan import scan_layout
+        from ..core.scan.layout_scan import scan_layout
 
         result = scan_layout(replace(result.layout, spot=None, amplifier=None))
     layout = result.layout

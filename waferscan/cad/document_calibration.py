@@ -1,15 +1,15 @@
-"""Auto-calibration (SPEC §11, core/calibration.py) of a FreeCAD document's layout: the command
+"""Auto-calibration (SPEC §11, core/scan/calibration.py) of a FreeCAD document's layout: the command
 line's ``waferscan calibrate``, the MCS link's ``CAL`` and the GUI's Calibrate command all read
 the document's layout, put a parameters.txt's values over it, and calibrate with the core scan
 of the layout read."""
 
 from __future__ import annotations
 
-from ..core.calibration import calibrate
 from ..core.errors import InputError
-from ..core.engine_choice import check_engine
-from ..core.mcs import apply_parameters
-from ..core.scan import scan_layout
+from ..core.files.mcs import apply_parameters
+from ..core.scan.calibration import calibrate
+from ..core.scan.engine_choice import check_engine
+from ..core.scan.layout_scan import scan_layout
 from .reader import DocumentScene, read_layout
 
 
@@ -39,8 +39,8 @@ def calibrate_document(doc, parameters=None, engine="analytic", progress=None, r
                              f"z_step: {exc.message}") from None
         line = None
         if str(source).lower().endswith(".toml"):
-            from ..core.scenario import key_line
-            from ..core.text_files import read_text
+            from ..core.files.scenario import key_line
+            from ..core.files.text_files import read_text
 
             try:
                 line = key_line(read_text(source), "scan", "z_step")

@@ -8,10 +8,10 @@ lift joint), then read the scanner's and every wafer's global placement back and
 
 from __future__ import annotations
 
-from ..core.engines import CAD_ENGINES
-from ..core.geometry import beam_hits_wafer
-from ..core.mcs import apply_parameters
-from ..core.scan import scan_layout
+from ..core.files.mcs import apply_parameters
+from ..core.geometry.beam import beam_hits_wafer
+from ..core.scan.engines import CAD_ENGINES
+from ..core.scan.layout_scan import scan_layout
 from .reader import DocumentScene, read_layout
 from .stepping import WaferInItsFrame, mover_for, stepper_through_document
 

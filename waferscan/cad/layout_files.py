@@ -14,8 +14,8 @@ from pathlib import Path
 import FreeCAD as App
 
 from ..core.errors import InputError
-from ..core.text_files import read_text, remove_stale_temporaries
-from ..core.scenario import key_line, read_scenario
+from ..core.files.scenario import key_line, read_scenario
+from ..core.files.text_files import read_text, remove_stale_temporaries
 from .builder import build_document, document_preference_on
 
 

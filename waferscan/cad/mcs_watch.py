@@ -19,11 +19,17 @@ from pathlib import Path
 
 import FreeCAD as App
 
-from ..core.engines import ENGINES
 from ..core.errors import InputError
-from ..core.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
-from ..core.mcs_link import (LockLost, McsLink, Scanned, StopFlag, read_regular_text,
-                              stop_on_signals)
+from ..core.files.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
+from ..core.files.mcs_link import (
+    LockLost,
+    McsLink,
+    Scanned,
+    StopFlag,
+    read_regular_text,
+    stop_on_signals,
+)
+from ..core.scan.engines import ENGINES
 from .document_scan import scan_document
 from .reader import DocumentScene, read_layout
 
@@ -134,7 +140,7 @@ def _calibrated(doc, cache, parameters, engine, should_stop):
     """A CAL: calibrate the document's layout under parameters.txt's recipe; the answer is the
     check scan with the calibrated recipe's keys in its header (a failure raises
     CalibrationError, answered with its words)."""
-    from ..core.calibration import REPORTED_KEYS, recipe_values
+    from ..core.scan.calibration import REPORTED_KEYS, recipe_values
     from .document_calibration import calibrate_document
 
     scene, layout = cache.get()

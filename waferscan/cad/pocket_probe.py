@@ -14,9 +14,9 @@ import math
 
 import FreeCAD as App
 
-from ..core import slow_scan
 from ..core.errors import InputError
-from ..core.geometry import beam_hits_wafer
+from ..core.geometry.beam import beam_hits_wafer
+from ..core.scan import slow_scan
 from . import roles
 from .reader import beam_from
 from .stepping import WaferInItsFrame

@@ -13,12 +13,11 @@ from dataclasses import dataclass
 
 import FreeCAD as App
 
-from ..core import schema, validation
+from ..core import schema
 from ..core.errors import InputError
-from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem,
-                           thickness_tolerance_from_stored)
-from ..core.model import (Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer,
-                          unit)
+from ..core.files import validation
+from ..core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer, unit
+from ..core.rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_tolerance_from_stored
 from . import roles
 from .disc import NotADisc, bowed_disc_of, disc_of
 from .features import SETTINGS_PROPERTIES

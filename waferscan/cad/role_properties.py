@@ -82,7 +82,7 @@ _UNITS = {"SpotDiameter": "mm", "SpotWidth": "mm", "SpotHeight": "mm", "Threshol
           "WristSpeed": "deg/s", "WristAcceleration": "deg/s²"}
 
 
-# (property, kind, key of core.sensor_settings, tooltip). Zero means "not set" for the spot's
+# (property, kind, key of core.sensor.settings, tooltip). Zero means "not set" for the spot's
 # lengths (the ideal line), the acceleration (infinite) and the read period.
 SENSOR_PROPERTIES = (
     ("SpotDiameter", "App::PropertyLength", "spot_diameter",

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import FreeCAD as App
 
-from ..core.scenario import SUPPORT_OVERLAP
+from ..core.files.scenario import SUPPORT_OVERLAP
 from . import role_properties
 from .disc import NotADisc, bowed_disc_of, disc_of
 

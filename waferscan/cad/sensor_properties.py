@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import math
 
-from ..core import sensor_settings
-from ..core.motion import LATCHES
+from ..core.sensor import settings as sensor_settings
+from ..core.sensor.motion import LATCHES
 from . import roles
-# (property, kind, key of core.sensor_settings, tooltip), listed with the role's other properties
+
+# (property, kind, key of core.sensor.settings, tooltip), listed with the role's other properties
 from .role_properties import LATCH_TIP, SENSOR_PROPERTIES
 
 
@@ -22,7 +23,7 @@ def add_sensor_properties(obj, layout):
 
 def add_sensor_values(obj, values):
     """Add the §10 properties to a ScanSettings object, filled from ``values`` (every key of
-    ``core.sensor_settings``, as ``current_values`` or ``values_with_defaults`` give them)."""
+    ``core.sensor.settings``, as ``current_values`` or ``values_with_defaults`` give them)."""
     for prop, kind, key, tip in SENSOR_PROPERTIES:
         value = values[key]
         if key == "acceleration" and math.isinf(value):

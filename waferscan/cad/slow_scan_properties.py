@@ -1,12 +1,12 @@
 """SPEC §13's slow-scan settings on the document's ScanSettings object: the jab, the sweep, the
 wrist's distance behind the beam and the arm's and wrist's motion, as properties in units. A
-document made before them has none and scans with the defaults (core/slow_scan.py)."""
+document made before them has none and scans with the defaults (core/scan/slow_scan.py)."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 
-from ..core import slow_scan
+from ..core.scan import slow_scan
 from . import roles
 from .role_properties import SLOW_SCAN_PROPERTIES
 

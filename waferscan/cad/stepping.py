@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import FreeCAD as App
 
-from ..core.engines import StepHits, reachable_wafers, runs_from_blocked
 from ..core.model import Wafer
 from ..core.rules import check_stepped
+from ..core.scan.engines import StepHits, reachable_wafers, runs_from_blocked
 from . import roles
 from .reader import beam_from
 

@@ -40,7 +40,7 @@ class Wafer:
     carrier: str | None = None
     slot: int | None = None  # the slot it was loaded into, when known; not used by the scan
     # SPEC §10: the bottom surface is bow (1 - r²/R²) above the rim's bottom circle, whose
-    # centre ``center`` then is (core/bow.py); 0: the flat disc.
+    # centre ``center`` then is (core/geometry/bow.py); 0: the flat disc.
     bow: float = 0.0
 
     @property
@@ -108,12 +108,12 @@ class ScanParameters:
     scan_speed: float = 100.0  # mm/s
     sensor_response: float = 0.0  # s
     # SPEC §10: how the controller latches edges ("step": on the grid, as above; "encoder" or
-    # "sampled": during a continuous stroke, see core/motion.py), the stroke's acceleration
+    # "sampled": during a continuous stroke, see core/sensor/motion.py), the stroke's acceleration
     # (mm/s², inf: full speed at once) and the controller's read period (s) for "sampled".
     latch: str = "step"
     acceleration: float = math.inf
     sample_period: float = 0.0
-    # SPEC §13, slow scanning's arm motions at each pocket (core/slow_scan.py): the jab's reach
+    # SPEC §13, slow scanning's arm motions at each pocket (core/scan/slow_scan.py): the jab's reach
     # (mm, 0: none), the sweep's half-angle (deg, 0: none), the wrist axis's distance behind the
     # beam's midpoint (mm; the bundled robot's 260), and the arm's and the wrist's speed and
     # acceleration (mm/s, mm/s², deg/s, deg/s²) for the scan's simulated duration.
@@ -198,8 +198,8 @@ class Layout:
     mapping: MappingTolerances = field(default_factory=MappingTolerances)
     carrier: str | None = None  # name of the scanned carrier; None: the only one
     robot: RobotSpec | None = None  # what carries the scanner, when a robot does
-    # SPEC §10: the beam's cross-section (core.spot.BeamSpot; None: the ideal line) and the
-    # amplifier's thresholds (core.spot.Amplifier; None: 0.5, no hysteresis).
+    # SPEC §10: the beam's cross-section (core.sensor.spot.BeamSpot; None: the ideal line) and the
+    # amplifier's thresholds (core.sensor.spot.Amplifier; None: 0.5, no hysteresis).
     spot: object = None
     amplifier: object = None
 

@@ -129,7 +129,7 @@ def open_scenario(path):
     table gets the preferences' tolerances, and the preferences' sensor defaults fill what its
     [sensor] and [scan] tables do not set (SPEC §10)."""
     from ..cad.builder import build_document
-    from ..core.scenario import read_scenario
+    from ..core.files.scenario import read_scenario
 
     layout = read_scenario(path, default_mapping=preferences.mapping_tolerances(),
                            default_sensor=preferences.sensor_defaults())
@@ -152,7 +152,7 @@ def ensure_settings(doc, scene=None):
     from ..cad.features import make_settings
     from ..cad.reader import DocumentScene, carrier_from
     from ..cad.sensor_properties import add_sensor_values
-    from ..core.sensor_settings import values_with_defaults
+    from ..core.sensor.settings import values_with_defaults
 
     if any(roles.role_of(o) == roles.SETTINGS for o in doc.Objects):
         return None
@@ -487,7 +487,7 @@ def cross_check(doc):
     """The B-rep cross-check of the document's last scan, reported in the report view and a
     dialog."""
     from ..cad.crosscheck import crosscheck
-    from ..core.report import format_crosscheck
+    from ..core.files.report import format_crosscheck
 
     result = result_now(doc)
     QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
@@ -523,7 +523,7 @@ def calibrate_layout(doc):
     show the calibrated recipe beside the current one with the check scan's code. A failure is
     reported in its own words. Returns the core Calibration, or None."""
     from ..cad.document_calibration import calibrate_document
-    from ..core.calibration import CalibrationError, format_calibration
+    from ..core.scan.calibration import CalibrationError, format_calibration
     from .calibration_view import calibration_dialog
 
     QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)

@@ -1,5 +1,5 @@
 """The MCS link task panel: the folder of the three files, parameters.txt seen and edited with
-validation, and watching commands.txt. The link is the headless one (``core.mcs_link.McsLink``
+validation, and watching commands.txt. The link is the headless one (``core.files.mcs_link.McsLink``
 with ``cad.mcs_watch.document_scanner``), so results.txt is written exactly as ``waferscan
 watch`` writes it; the panel only decides when to poll: on a file-system event and, as a
 fallback for file systems that send none (network shares), on a timer."""
@@ -16,9 +16,15 @@ from ..addon import icon_path
 from ..cad.mcs_watch import document_scanner
 from ..cad.reader import read_layout
 from ..core.errors import InputError
-from ..core.mcs import (COMMANDS, PARAMETERS, apply_parameters, atomic_write_text,
-                        format_parameters, parse_parameters)
-from ..core.mcs_link import LockLost, McsLink, ScanStopped
+from ..core.files.mcs import (
+    COMMANDS,
+    PARAMETERS,
+    apply_parameters,
+    atomic_write_text,
+    format_parameters,
+    parse_parameters,
+)
+from ..core.files.mcs_link import LockLost, McsLink, ScanStopped
 from . import preferences
 from .inputs import folder_row
 from .qt import ClosableTaskPanel

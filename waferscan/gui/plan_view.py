@@ -2,13 +2,13 @@
 would be), the beam at the start pose, at the jab's first contact and deepest point, and at the
 sweep's first and last blocked angles, with the points where it met the wafer, and where the
 sweep turned a tine into the wafer. Drawn from
-``core.pocket_plan`` only; a slot chooser picks the pocket."""
+``core.scan.pocket_plan`` only; a slot chooser picks the pocket."""
 
 from __future__ import annotations
 
 from PySide import QtCore, QtGui
 
-from ..core import pocket_plan as plans
+from ..core.scan import pocket_plan as plans
 
 # (pen colour, pen style, width) of each beam; the contact points are dots of the same colour.
 BEAM_STYLES = {

@@ -17,8 +17,8 @@ from ..addon import icon_path
 from ..cad.document_scan import mover_for
 from ..cad.pocket_probe import arm_for
 from ..cad.reader import DocumentScene
-from ..core import slow_scan
-from ..core.geometry import beam_hits_wafer
+from ..core.geometry.beam import beam_hits_wafer
+from ..core.scan import slow_scan
 from .qt import ClosableTaskPanel
 
 BEAM_CLEAR, BEAM_BLOCKED = (0.1, 0.6, 0.1), (0.9, 0.1, 0.1)

@@ -11,9 +11,9 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from ..core.mapping import E87, STATE_NAMES
 from ..cad.results_sheet import COLUMNS, columns, table_cells
-from ..core.report import STATE_COLOURS
+from ..core.files.report import STATE_COLOURS
+from ..core.mapping import E87, STATE_NAMES
 from .side_view import SideView
 
 

@@ -13,8 +13,9 @@ from __future__ import annotations
 import FreeCAD as App
 from PySide import QtGui
 
-from ..core import schema, sensor_settings
-from ..core.motion import LATCHES, SAMPLED, STEP
+from ..core import schema
+from ..core.sensor import settings as sensor_settings
+from ..core.sensor.motion import LATCHES, SAMPLED, STEP
 from .inputs import length_input, length_value, set_length
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
@@ -45,7 +46,7 @@ def stored_values():
 
 def defaults_from(stored):
     """Stored preferences -> the §10 values (and sensor_response) that differ from the ideal
-    sensor, keyed as in ``core.sensor_settings``; ValueError naming the preference when one is
+    sensor, keyed as in ``core.sensor.settings``; ValueError naming the preference when one is
     refused, alone or with the others."""
     values = {}
     shape = stored["SpotShape"]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from PySide import QtGui
 
-from ..core.motion import LATCHES
+from ..core.sensor.motion import LATCHES
 from .inputs import length_input
 from .settings_section import SettingsSection, settings_object
 

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from PySide import QtCore, QtGui
 
-from ..signal_plot import signal_of, signal_samples
-from ..core.sensing import scan_edges
+from ..core.scan.sensing import scan_edges
+from ..plots.signal import signal_of, signal_samples
 
 TRACE = (30, 100, 200)
 ON_EDGE, OFF_EDGE = (40, 150, 60), (140, 70, 170)

@@ -1,9 +1,9 @@
 """A scan with a real sensor (SPEC §10): a beam spot, the amplifier's thresholds, latching while
 the axis moves. ``scan_layout`` hands a layout here when it asks for any of them; the ideal
-sensor (spot 0, latch ``step``) keeps the paper's path in core/scan.py untouched, so its results
+sensor (spot 0, latch ``step``) keeps the paper's path in core/scan/layout_scan.py untouched, so its results
 stay bit for bit what they were.
 
-The signal is worked out per group of wafers that can share the spot (core/spot.py): for a
+The signal is worked out per group of wafers that can share the spot (core/sensor/spot.py): for a
 continuous stroke (``latch`` encoder or sampled, or z_step = 0) the output's edges are found by
 bisection on the closed-form b(z); on the step grid b is read at each step inside the group's
 reach and the output is switched step by step. Either way only the few positions near wafers
@@ -15,14 +15,23 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .amplifier import (SAMPLES_PER_SPOT, grouped_level_intervals, output_intervals,
-                        stepped_output)
+from ..mapping import map_slots, two_run_warnings, unscanned_slots
+from ..model import DOWN, SLOW, UP
+from ..sensor.amplifier import (
+    SAMPLES_PER_SPOT,
+    grouped_level_intervals,
+    output_intervals,
+    stepped_output,
+)
+from ..sensor.motion import STEP, Stroke
+from ..sensor.spot import (
+    DEFAULT_AMPLIFIER,
+    IDEAL_SPOT,
+    BlockedFraction,
+    GroupedFraction,
+    wafer_groups,
+)
 from .engines import ExactHits, analytic_engine
-from .mapping import map_slots, two_run_warnings, unscanned_slots
-from .model import DOWN, SLOW, UP
-from .motion import STEP, Stroke
-from .spot import (DEFAULT_AMPLIFIER, IDEAL_SPOT, BlockedFraction, GroupedFraction,
-                   wafer_groups)
 
 
 def ideal_sensor(layout):
@@ -170,10 +179,18 @@ def _spot_output(layout, spot, amplifier, window, moving):
 
 def sensed_scan(layout, engine="analytic", progress=None):
     """Scan a layout with a real sensor (SPEC §10) and map its slots: the ``ScanResult`` of
-    core/scan.py with ``edges`` (every latched ON/OFF edge in the order latched) and ``signal``
+    core/scan/layout_scan.py with ``edges`` (every latched ON/OFF edge in the order latched) and ``signal``
     (b along the scan)."""
-    from .scan_result import (ScanResult, SensorRun, WaferInterval, _window, protruding_slots,
-                       scan_warnings, scanned_range, slot_plan)
+    from .scan_result import (
+        ScanResult,
+        SensorRun,
+        WaferInterval,
+        _window,
+        protruding_slots,
+        scan_warnings,
+        scanned_range,
+        slot_plan,
+    )
 
     if engine != "analytic":
         raise ValueError(f"a beam spot or latching in motion is computed by the analytic "

@@ -1,6 +1,6 @@
 """A pocket seen from above (SPEC §13): where a slow scan's beam met the wafer in the jab and the
 sweep. Plain geometry for the GUI's plan view (gui/plan_view.py) and the ``--plot`` panel
-(signal_plot.py): both draw it, neither computes it.
+(plots/signal.py): both draw it, neither computes it.
 
 Coordinates are the carrier's own, in mm, seen from above: ``u`` across the opening, from the
 carrier's left support to its right one (``Carrier.lateral``), and ``v`` into the carrier
@@ -18,8 +18,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..mapping import POSITION_ERROR, PROTRUDING
 from . import slow_scan
-from .mapping import POSITION_ERROR, PROTRUDING
 
 # The beams a plan shows, in the order they are drawn.
 START, FRONT, DEEPEST, SWEEP_FIRST, SWEEP_LAST = ("start", "front", "deepest", "sweep first",

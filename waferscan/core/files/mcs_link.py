@@ -55,8 +55,8 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import InputError
-from .calibration import CalibrationError
+from ..errors import InputError
+from ..scan.calibration import CalibrationError
 from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, atomic_write_text, format_results
 
 HISTORY = "history"

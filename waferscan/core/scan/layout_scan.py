@@ -11,16 +11,31 @@ Semantics of the modes (SPEC §3):
 
 from __future__ import annotations
 
+from ..mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slots
+from ..model import SLOW
 from . import slow_scan
 from .engines import ExactHits, run_engine
-from .mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slots
-from .model import SLOW
-# The parts of a scan's result live in scan_result (shared with core/sensing.py); they are
+
+# The parts of a scan's result live in scan_result (shared with core/scan/sensing.py); they are
 # named here too, where callers have always found them.
-from .scan_result import (ScanResult, SensorRun, WaferInterval, _carrier_wafers,  # noqa: F401
-                          _exact_intervals, _run_wafers, _stepped_intervals, _window, latch,
-                          latcher, protruding_slots, protrusion, protrusions_by_slot,
-                          scan_warnings, scanned_range, slot_plan)
+from .scan_result import (
+    ScanResult,
+    SensorRun,
+    WaferInterval,
+    _carrier_wafers,
+    _exact_intervals,
+    _run_wafers,
+    _stepped_intervals,
+    _window,
+    latch,
+    latcher,
+    protruding_slots,
+    protrusion,
+    protrusions_by_slot,
+    scan_warnings,
+    scanned_range,
+    slot_plan,
+)
 
 
 def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None):
@@ -58,7 +73,7 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     # grid, the beam is sampled a step apart.
     scanned = (scan.start_z, scan.final_z)
     unscanned = unscanned_slots(plan, scanned)
-    # SPEC §13: a slow scan's jab and sweep at each scanned pocket (core/slow_scan.py).
+    # SPEC §13: a slow scan's jab and sweep at each scanned pocket (core/scan/slow_scan.py).
     pockets, swept_off, probe_warnings = (), (), []
     if slow_scan.probes_pockets(scan):
         pockets = slow_scan.probe_pockets(

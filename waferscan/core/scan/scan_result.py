@@ -1,6 +1,6 @@
 """What a scan gives and the steps from an engine's hits to it: sensor runs as the MCS sees them
 (latched), per-wafer intervals, the protrusion check, the warnings of SPEC §3 and the
-``ScanResult``. ``core/scan.py`` (the ideal sensor) and ``core/sensing.py`` (SPEC §10's real
+``ScanResult``. ``core/scan/layout_scan.py`` (the ideal sensor) and ``core/scan/sensing.py`` (SPEC §10's real
 sensor) both build their results from these, so neither imports the other's module."""
 
 from __future__ import annotations
@@ -10,11 +10,11 @@ from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 from operator import attrgetter
 
+from ..geometry.beam import LEVEL, PRE_REJECT_SLACK, wafer_bounds
+from ..mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
+from ..model import DOWN, SLOW, UP, UPDOWN
+from ..recipe import recipe_fields
 from .engines import reachable_wafers
-from .geometry import LEVEL, PRE_REJECT_SLACK, wafer_bounds
-from .mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
-from .model import DOWN, SLOW, UP, UPDOWN
-from .recipe import recipe_fields
 
 
 # The records a scan makes by the hundred (a run, a wafer's interval, mapping.SlotState) are
@@ -71,12 +71,12 @@ class ScanResult:
     slot_map: object
     protrusions: tuple  # (wafer name, protrusion in mm) for the scanned carrier's wafers
     warnings: tuple = ()  # why some of what is reported cannot be known (SPEC §3), as sentences
-    # SPEC §10, a real sensor's scan only (core/sensing.py): every latched ON/OFF edge in the
+    # SPEC §10, a real sensor's scan only (core/scan/sensing.py): every latched ON/OFF edge in the
     # order latched, and the blocked fraction along the scan (a SignalTrace).
     edges: tuple = ()
     signal: object = None
     # SPEC §13, a slow scan with a jab or a sweep: each scanned pocket's PocketProbe
-    # (core/slow_scan.py), in slot order; empty otherwise.
+    # (core/scan/slow_scan.py), in slot order; empty otherwise.
     pockets: tuple = ()
     # The ScanParameters as asked, when the scan ran with others (``layout.scan``): latching in
     # motion has continuous edges, so it scans with z_step 0 whatever z_step asked (SPEC §10).

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .core.errors import InputError
-from .core.sensing import SignalTrace
+from ..core.errors import InputError
+from ..core.scan.sensing import SignalTrace
 
 FORMATS = (".png", ".svg")
 # Samples of b across each group of wafers (its reach is a few spot heights).
@@ -56,7 +56,7 @@ def check_plot_path(path):
 
 def plot_signal(result, path, drawn=None):
     """Write the signal plot of a scan result to ``path`` (.png or .svg), atomically. A slow
-    scan with a jab or a sweep adds its chosen pockets seen from above (pocket_plot.py);
+    scan with a jab or a sweep adds its chosen pockets seen from above (plots/pockets.py);
     ``drawn``, a list, collects what those panels drew."""
     drawn = [] if drawn is None else drawn
     check_plot_path(path)
@@ -93,7 +93,7 @@ def plot_signal(result, path, drawn=None):
         axis.set_xlim(lo, hi)
         axis.set_title(title, fontsize=9)
     if pockets:
-        from .pocket_plot import draw_pockets
+        from .pockets import draw_pockets
 
         draw_pockets(figure, grid[2, :], result, drawn)
     temporary = path.with_name(f".{path.name}.tmp{path.suffix}")
@@ -123,7 +123,7 @@ def _sensor_words(result):
 
 
 def _edges(result):
-    from .core.sensing import scan_edges
+    from ..core.scan.sensing import scan_edges
 
     return scan_edges(result)
 

@@ -33,10 +33,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from .errors import InputError, WaferScanError
-from .mapping import EMPTY, LIMIT_SLACK, PRESENT, STATE_NAMES, UNSCANNED
-from .model import FAST
-from .recipe import RECIPE_KEYS, resolved_values
+from ..errors import InputError, WaferScanError
+from ..mapping import EMPTY, LIMIT_SLACK, PRESENT, STATE_NAMES, UNSCANNED
+from ..model import FAST
+from ..recipe import RECIPE_KEYS, resolved_values
 
 NO_BOTTOM_WAFER = "no-bottom-wafer"
 NO_TOP_WAFER = "no-top-wafer"
@@ -285,7 +285,7 @@ def check_problems(result):
 
 def calibrate(layout, scan):
     """Calibrate the layout's recipe from its reference wafers. ``scan(layout)`` returns a
-    ScanResult (core.scan.scan_layout, or a scan through a document). Returns a Calibration or
+    ScanResult (core.scan.layout_scan.scan_layout, or a scan through a document). Returns a Calibration or
     raises CalibrationError."""
     first = scan(calibration_layout(layout))
     low, high = references_of(layout, first.runs)

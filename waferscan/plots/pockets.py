@@ -1,11 +1,11 @@
 """A slow scan's pockets seen from above under the signal plot (SPEC §13, ``scan --plot``): the
-same plans as the GUI's "Pockets from above" tab (core/pocket_plan.py), drawn with matplotlib
-by signal_plot.py when the scan made a jab or a sweep."""
+same plans as the GUI's "Pockets from above" tab (core/scan/pocket_plan.py), drawn with matplotlib
+by plots/signal.py when the scan made a jab or a sweep."""
 
 from __future__ import annotations
 
-from .core import pocket_plan as plans
-from .core.report import STATE_COLOURS
+from ..core.files.report import STATE_COLOURS
+from ..core.scan import pocket_plan as plans
 
 MOST = 4  # pockets drawn: the judged ones first (pocket_plan.chosen_slots)
 # (colour, line style, width) of each beam, as in the GUI's plan view.

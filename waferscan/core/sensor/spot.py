@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .geometry import translation_range
+from ..geometry.beam import translation_range
 
 # Columns across the spot at which the per-column translation range is computed exactly; the
 # limits are linear between them. The oracle (a level wafer) is exact for any number; this many
@@ -143,7 +143,7 @@ def _merged(intervals):
     return out
 
 
-# A sweep's centre-ray ranges worked out beforehand over arrays (core/sweep_spot.py):
+# A sweep's centre-ray ranges worked out beforehand over arrays (core/sweep/spot_scan.py):
 # {(id(wafer), id(beam)): ({s: j}, [range j, or _MISSING where not worked out])}, the same
 # floats ``translation_range`` gives; None: none.
 _PRECOMPUTED = None

@@ -18,8 +18,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from . import schema
-from .rules import thickness_fits_pitch
+from .. import schema
+from ..rules import thickness_fits_pitch
 
 MAX_SLOTS = 10_000
 MAX_CARRIERS = 1_000
@@ -290,7 +290,7 @@ def slow_scan_problems(layout):
             found.append(Problem("jab", f"{scan.jab:g} mm would drive the fork's tines (the "
                                         f"beam's ends) into a wafer seated in carrier "
                                         f"{carrier.name!r}: a tine {where}", group="scan"))
-    from .slow_scan import move_time  # the durations' own arithmetic
+    from ..scan.slow_scan import move_time  # the durations' own arithmetic
 
     for k, distance, speed, acceleration in (
             ("arm_speed", scan.jab, scan.arm_speed, scan.arm_acceleration),
@@ -308,7 +308,7 @@ def duration_problems(scan):
     """The lift's speed and acceleration must keep the simulated durations (SPEC §13: a fast and
     a slow scan's, reported for every scan) finite: bounded here by every stepped position and
     every slot moving the whole travel."""
-    from .slow_scan import lift_acceleration, move_time
+    from ..scan.slow_scan import lift_acceleration, move_time
 
     travel = max(abs(scan.final_z - scan.start_z), scan.z_step)
     moves = 4.0 * (MAX_SLOTS + schema.MAX_POSITIONS)
@@ -331,7 +331,7 @@ def mapping_problems(mapping, thickness):
     """The problems of a mapping recipe (SPEC §11) against the scanned carrier's nominal wafer
     ``thickness`` (mm): its limits resolved as ``mapping.SlotPlan`` resolves them must make a
     thin < present < double < cross-slotted order. The key blamed is the one that was given."""
-    from .mapping import RULE_SETS, SlotPlan
+    from ..mapping import RULE_SETS, SlotPlan
 
     found = []
 

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from .mapping import STATE_NAMES, UNSCANNED
+from ..mapping import STATE_NAMES, UNSCANNED
 from .mcs import reported_parameters
 
 # The paper's Table 1: slot -> (wafer #, IN, OUT, diff) in mm; slots not listed were empty.
@@ -65,7 +65,7 @@ def format_durations(result):
 
 
 def _result_dict(result):
-    from .sensing import scan_edges, slot_readings
+    from ..scan.sensing import scan_edges, slot_readings
 
     readings = slot_readings(result)
     return {

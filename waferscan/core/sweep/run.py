@@ -1,6 +1,6 @@
 """Monte Carlo sweeps (SPEC §12): does a recipe hold under real tolerances?
 
-N layouts are drawn from an INPUT layout by a tolerance file (core/tolerances.py); each is
+N layouts are drawn from an INPUT layout by a tolerance file (core/sweep/distributions.py); each is
 scanned and mapped with the recipe, and the reported state of every slot is compared with the
 state that was placed. The draws, the scan and the mapping run in numpy over blocks of layouts
 at once (layouts x wafers), not as N scans in a Python loop:
@@ -18,7 +18,7 @@ at once (layouts x wafers), not as N scans in a Python loop:
 
 A beam spot, latching in motion or exact edges (z_step = 0) take the scalar path layout by
 layout (``scalar_block``): slower, the same answers by construction. A beam spot read on the
-step grid goes through core/sweep_spot.py instead: the spot's column ranges of the whole block
+step grid goes through core/sweep/spot_scan.py instead: the spot's column ranges of the whole block
 over arrays, bit for bit the floats the scalar spot engine computes, then its strips and its
 blocked fraction at every step for the whole block at once, the same floats again, and the
 runs, latching and mapping layout by layout as the scalar path does them (tests hold every
@@ -34,10 +34,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from . import mapping
-from .mapping import (CROSS, DOUBLE, EMPTY, LIMIT_SLACK, POSITION_ERROR, PRESENT, PROTRUDING,
-                      THIN, SlotPlan, map_slots)
-from .model import DOWN, SLOW, UP, UPDOWN, Beam, Wafer
+from .. import mapping
+from ..mapping import (
+    CROSS,
+    DOUBLE,
+    EMPTY,
+    LIMIT_SLACK,
+    POSITION_ERROR,
+    PRESENT,
+    PROTRUDING,
+    THIN,
+    SlotPlan,
+    map_slots,
+)
+from ..model import DOWN, SLOW, UP, UPDOWN, Beam, Wafer
 
 # Layouts per block: the unit the seeds are derived for. Fixed, never taken from the workers.
 BLOCK_SIZE = 500
@@ -55,7 +65,7 @@ UNSCANNED = 7
 # Summary names, indexed by state code (SPEC §12).
 STATE_KEYS = ("empty", "present", "cross", "double", "thin", "position_error", "protruding",
               "unscanned")
-# The scenario's wafer states (core/scenario.py) by the truth code they place.
+# The scenario's wafer states (core/files/scenario.py) by the truth code they place.
 PLACED = {"absent": EMPTY, "present": PRESENT, "cross": CROSS, "double": DOUBLE, "thin": THIN,
           "misplaced": POSITION_ERROR, "protruding": PROTRUDING}
 # The order [states] probabilities are laid out in for drawing: fixed (not the file's order).
@@ -85,7 +95,7 @@ def sweep_base(layout, plan=None, rules=None):
     """The ``SweepBase`` of a layout: its scanned carrier, the recipe (``plan``, default the
     layout's own; ``rules`` replaces its rule set) and the states its wafers were placed in,
     read from their geometry (``placed_states``)."""
-    from .scan_result import slot_plan
+    from ..scan.scan_result import slot_plan
 
     carrier = layout.scanned_carrier
     plan = plan or slot_plan(carrier, layout.mapping)
@@ -101,8 +111,8 @@ def placed_states(layout, carrier, plan):
     above), one raised off its seat beyond the position window misplaced, one out of the
     opening beyond the protrusion limit protruding, a thin one thin, two in a slot double.
     Returns (states, cross_start)."""
-    from .geometry import wafer_bounds
-    from .scan_result import _carrier_wafers, protrusion
+    from ..geometry.beam import wafer_bounds
+    from ..scan.scan_result import _carrier_wafers, protrusion
 
     count = carrier.slot_count
     found = {s: [] for s in range(1, count + 1)}
@@ -199,8 +209,8 @@ def draw_block(base, tolerances, seed, block, count):
     (states, then each quantity in tolerances.DRAW_ORDER), so the seed alone decides them."""
     import numpy as np
 
-    from .scenario import MISPLACED_RISE, PROTRUDING_SHIFT, THIN_FACTOR
-    from .tolerances import DRAW_ORDER
+    from ..files.scenario import MISPLACED_RISE, PROTRUDING_SHIFT, THIN_FACTOR
+    from .distributions import DRAW_ORDER
 
     rng = block_rng(seed, block)
     carrier = base.carrier
@@ -301,7 +311,7 @@ def _clipped(name, values):
 
 def _base_bow(base):
     """The INPUT's bow of its carrier's wafers (the first one's; 0 without wafers)."""
-    from .scan_result import _carrier_wafers
+    from ..scan.scan_result import _carrier_wafers
 
     for wafer in _carrier_wafers(base.carrier, base.layout.wafers):
         return wafer.bow
@@ -325,7 +335,7 @@ def _beam_tilted(e0, beta_deg):
 
 def sample_layout(base, draws, i):
     """Layout ``i`` of a block as a normal ``Layout`` (for the scalar path and for scripts)."""
-    from .spot import Amplifier
+    from ..sensor.spot import Amplifier
 
     carrier = base.carrier
     wafers = []
@@ -365,9 +375,9 @@ def scalar_layout_states(base, layout, peaks=None):
     has no run) of one layout by the scalar path: ``scan_layout`` and the recipe's mapping.
     ``peaks``: a list to which the largest blocked fraction of each group of wafers a beam spot
     saw is appended (SPEC §10; none for the ideal beam)."""
-    from .scan import scan_layout
-    from .scan_result import protruding_slots
-    from .mapping import unscanned_slots
+    from ..mapping import unscanned_slots
+    from ..scan.layout_scan import scan_layout
+    from ..scan.scan_result import protruding_slots
 
     plan = base.plan
     result = scan_layout(layout)
@@ -409,14 +419,14 @@ def scalar_block(base, draws, peaks=None):
 
 def spot_block(base, draws, peaks=None):
     """``scalar_block``'s answer (states, thickness, bottom; ``peaks`` as there) for a layout
-    with a beam spot (core/sweep_spot.py): the block's column ranges over arrays first
+    with a beam spot (core/sweep/spot_scan.py): the block's column ranges over arrays first
     (``range_table``); the layouts read per step in a fast scan through ``lean_block``, the
     others through the scalar path, which finds the ranges there. The same answers as
     ``scalar_block``, bit for bit (tests/core/test_sweep_spot.py)."""
     import numpy as np
 
-    from . import spot as spot_module
-    from .sweep_spot import lean_block, lean_spot_path, range_table
+    from ..sensor import spot as spot_module
+    from .spot_scan import lean_block, lean_spot_path, range_table
 
     layout = base.layout
     spot = layout.spot
@@ -446,8 +456,8 @@ def spot_block(base, draws, peaks=None):
 def states_of_runs(base, layout, runs):
     """``scalar_layout_states``'s answer from the scan's runs (``SensorRun``s): the
     recipe's mapping, the first run's thickness and bottom per slot."""
-    from .mapping import unscanned_slots
-    from .scan_result import protruding_slots
+    from ..mapping import unscanned_slots
+    from ..scan.scan_result import protruding_slots
 
     plan = base.plan
     flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
@@ -469,8 +479,8 @@ def states_of_runs(base, layout, runs):
 def needs_scalar_path(layout):
     """A beam spot, latching in motion, a slow scan's jab or sweep, or exact edges: the layout
     is scanned by the scalar path, one layout at a time."""
-    from .sensing import ideal_sensor
-    from . import slow_scan
+    from ..scan import slow_scan
+    from ..scan.sensing import ideal_sensor
 
     return (not ideal_sensor(layout) or layout.scan.exact or slow_scan.probes_pockets(layout.scan))
 
@@ -663,7 +673,7 @@ def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol, parallel):
 
 def _scalar_steps(base, draws, i, s, k):
     """One wafer's stepped interval by the scalar engine (engines._snap_to_grid et al.)."""
-    from .engines import _is_level, _settled_steps, _snap_to_grid, wafer_edges
+    from ..scan.engines import _is_level, _settled_steps, _snap_to_grid, wafer_edges
 
     carrier = base.carrier
     wafer = Wafer(name=f"{carrier.name}_S{s + 1:02d}_{k}",
@@ -771,7 +781,7 @@ def scan_block(base, draws):
 
 
 def _unscanned(plan, scan):
-    from .mapping import unscanned_slots
+    from ..mapping import unscanned_slots
 
     return unscanned_slots(plan, (scan.start_z, scan.final_z))
 
@@ -991,7 +1001,7 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
     if scalar:
         states, thickness, bottom = scalar_block(base, draws, peaks)
     elif spot is not None and not spot.ideal:
-        # The block at once (core/sweep_spot.py): the scalar path's answers, bit for bit.
+        # The block at once (core/sweep/spot_scan.py): the scalar path's answers, bit for bit.
         states, thickness, bottom = spot_block(base, draws, peaks)
     elif needs_scalar_path(base.layout):
         states, thickness, bottom = scalar_block(base, draws, peaks)
@@ -1383,7 +1393,7 @@ PERCENTILES = (1, 5, 50, 95, 99)
 def summarise(base, tolerances, n, seed, tally):
     """The sweep's summary (the dict written as summary.json) from ``reduce_partitions``'s
     tally."""
-    from .scenario import MISPLACED_RISE, THIN_FACTOR
+    from ..files.scenario import MISPLACED_RISE, THIN_FACTOR
 
     plan = base.plan
     conf = tally["confusion"]
@@ -1489,7 +1499,7 @@ def sweep_tally(layout, tolerances, n, seed=0, plan=None, rules=None, partition_
 
 def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
               runner=None, progress=None):
-    """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.tolerances.Tolerances) and
+    """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.sweep.distributions.Tolerances) and
     return the summary dict (summary.json's content). ``plan`` / ``rules``: the recipe
     (default: the layout's own). The blocks are grouped into ``partition_count`` partitions,
     which ``runner`` runs (default: ``LocalPartitions``, here one after another; the Dask

@@ -22,7 +22,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import InputError
+from ..errors import InputError
 
 # Quantity -> (unit, drawn per "wafer" or per "layout", what it does).
 QUANTITIES = {
@@ -119,7 +119,7 @@ class Tolerances:
 
 def read_tolerances(path):
     """Read and check a TOL.toml file (InputError with file and line when it is wrong)."""
-    from .text_files import read_text
+    from ..files.text_files import read_text
 
     path = Path(path)
     text = read_text(path, "the tolerance file")  # a regular file, bounded
@@ -128,14 +128,14 @@ def read_tolerances(path):
 
 def _line_of(text, table, key=None):
     """Line (1-based) of ``key`` in [table] (or of the table's header), None if not found."""
-    from .scenario import key_line
+    from ..files.scenario import key_line
 
     return key_line(text, table, key)
 
 
 def parse_tolerances(text, source="<tolerances>"):
     """Parse TOL.toml text into ``Tolerances``; ``source`` names it in errors."""
-    from .scenario import _toml
+    from ..files.scenario import _toml
 
     data = _toml(text.lstrip("\ufeff"), source)
 

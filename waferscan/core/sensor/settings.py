@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from . import schema
+from .. import schema
 from .motion import LATCHES, SAMPLED, STEP
 from .spot import DEFAULT_AMPLIFIER, IDEAL_SPOT, Amplifier, BeamSpot
 

@@ -39,11 +39,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from . import schema
-from .geometry import TOUCH_TOLERANCE, beam_hits_wafer, translation_range, wafer_bounds
-from .mapping import (LIMIT_SLACK, POSITION_ERROR, PROTRUDING, UNSCANNED, _SEVERITY, SlotMap,
-                      SlotState)
-from .model import Beam, Wafer
+from .. import schema
+from ..geometry.beam import TOUCH_TOLERANCE, beam_hits_wafer, translation_range, wafer_bounds
+from ..mapping import (
+    _SEVERITY,
+    LIMIT_SLACK,
+    POSITION_ERROR,
+    PROTRUDING,
+    UNSCANNED,
+    SlotMap,
+    SlotState,
+)
+from ..model import Beam, Wafer
 
 # Keys of [scan] and parameters.txt for slow scanning (SPEC §13), with their checks. The
 # defaults live on ScanParameters (model.py).
@@ -284,7 +291,7 @@ def _bisect(emitter, beam, wafer, wx, wy, clear, blocked, tol):
 def _bisected_span(emitter, beam, wafer, wx, wy, amplitude, tol):
     import numpy as np
 
-    from .geometry import beam_hits_wafers
+    from ..geometry.beam import beam_hits_wafers
 
     count = max(3, int(math.ceil(2.0 * amplitude / SWEEP_GRID_DEG)) + 1)
     grid = np.linspace(-amplitude, amplitude, count)
@@ -386,7 +393,7 @@ def _tine_grid(px, py, pz, direction, wafer, wx, wy, grid, tol):
     engines' array test, the wafer turned the other way about the wrist (as _bisected_span)."""
     import numpy as np
 
-    from .geometry import beam_hits_wafers
+    from ..geometry.beam import beam_hits_wafers
 
     a = np.radians(-grid)
     c, s = np.cos(a), np.sin(a)

@@ -1,19 +1,19 @@
 """A sweep with a beam spot (SPEC §12 with §10; ``sweep.spot_block`` runs a block): the
 spot's column ranges of a whole block of sampled layouts in numpy, then the blocked fraction
 of the whole block at once (``lean_block``), or each layout through the scalar spot engine
-(core/sensing.py), which finds the ranges precomputed instead of computing them one
+(core/scan/sensing.py), which finds the ranges precomputed instead of computing them one
 ``translation_range`` at a time.
 
 With a tilted beam every column of the spot (and every strip's middle column, where the spot
 engine checks its limits are linear) is a general ``translation_range``: the corners of a
-(lam, tau) region bounded by the beam's ends, the faces and the rim (core/geometry.py),
+(lam, tau) region bounded by the beam's ends, the faces and the rim (core/geometry/beam.py),
 ~40 µs each in Python, ~1,200 a layout of 25 slots. ``translation_ranges`` here is that
 function over arrays with the same arithmetic in the same order, so it gives the same floats
 bit for bit (tests/core/test_sweep_spot.py holds it so); where it cannot promise that (a bowed
 wafer, a level wafer's closed form, the degenerate rims, a pair of lines on the edge of
 ``_solve_lines``'s parallel test) it says so and those ranges are left to the scalar function.
 
-The precomputed ranges are handed to core/spot.py as a table keyed by the wafer and the
+The precomputed ranges are handed to core/sensor/spot.py as a table keyed by the wafer and the
 column's offset (``spot.precomputed_ranges``): a range the table lacks (a strip halved beyond
 its middle column, an uncovered wafer) the spot engine computes itself.
 
@@ -32,8 +32,8 @@ from __future__ import annotations
 
 import math
 
-from . import spot as spot_module
-from .model import SLOW as SLOW_MODE
+from ..model import SLOW as SLOW_MODE
+from ..sensor import spot as spot_module
 
 # Where |det| of two boundary lines lies within this relative distance of _solve_lines's
 # parallel test (1e-14 * the lines' norms, with math.hypot) the scalar function decides.
@@ -364,7 +364,7 @@ def _single_wafer_strips(spot, positions, middles, ranges, middle_ranges):
 def lean_spot_path(layout):
     """Whether ``spot_runs`` covers the layout's scan: a beam spot read on the step grid
     (latched per step, not exact) in a fast scan. Others take the scalar ``scan_layout``."""
-    from .motion import STEP
+    from ..sensor.motion import STEP
 
     scan = layout.scan
     spot = layout.spot
@@ -532,10 +532,10 @@ def lean_block(layouts, table):
     (``_table_strips``) and every group's b at its steps in one evaluation for the block."""
     import numpy as np
 
-    from .amplifier import stepped_output
-    from .scan_result import SensorRun
-    from .sensing import _latcher, _strokes
-    from .spot import DEFAULT_AMPLIFIER, BlockedFraction
+    from ..scan.scan_result import SensorRun
+    from ..scan.sensing import _latcher, _strokes
+    from ..sensor.amplifier import stepped_output
+    from ..sensor.spot import DEFAULT_AMPLIFIER, BlockedFraction
 
     if not layouts:
         return []

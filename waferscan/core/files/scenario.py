@@ -20,12 +20,14 @@ import tomllib
 from dataclasses import replace
 from pathlib import Path
 
-from . import schema, sensor_settings, slow_scan, validation
-from .errors import InputError
+from .. import schema
+from ..errors import InputError
+from ..model import Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer, unit
+from ..rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_fits_pitch
+from ..scan import slow_scan
+from ..sensor import settings as sensor_settings
+from . import validation
 from .text_files import read_text
-from .rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_fits_pitch
-from .model import (Beam, Carrier, Layout, MappingTolerances, RobotSpec, ScanParameters, Wafer,
-                    unit)
 
 THIN_FACTOR = 0.25
 MISPLACED_RISE = 2.0
@@ -413,7 +415,7 @@ def _beam_and_scan(reader, data):
     if values["final_z"] is None:
         raise reader.error("missing key 'final_z'", "scan")
     values["start_z"] = start_z
-    # SPEC §13: slow scanning's jab, sweep and arm motion (core/slow_scan.py).
+    # SPEC §13: slow scanning's jab, sweep and arm motion (core/scan/slow_scan.py).
     for key, check in slow_scan.SETTING_KEYS.items():
         value = reader.value(scan_data, "scan", key, check)
         if value is not None:

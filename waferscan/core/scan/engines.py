@@ -13,10 +13,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .geometry import (TOUCH_TOLERANCE, accessible, accessible_wafers, beam_hits_wafer,
-                       beam_hits_wafers,
-                       paper_beam_hits_wafer, translation_range, wafer_columns)
-from .rules import check_stepped
+from ..geometry.beam import (
+    TOUCH_TOLERANCE,
+    accessible,
+    accessible_wafers,
+    beam_hits_wafer,
+    beam_hits_wafers,
+    paper_beam_hits_wafer,
+    translation_range,
+    wafer_columns,
+)
+from ..rules import check_stepped
 
 
 @dataclass(frozen=True)

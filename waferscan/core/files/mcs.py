@@ -17,10 +17,13 @@ import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from . import recipe, schema, sensor_settings, slow_scan, validation
-from .errors import InputError
+from .. import recipe, schema
+from ..errors import InputError
+from ..rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
+from ..scan import slow_scan
+from ..sensor import settings as sensor_settings
+from . import validation
 from .text_files import read_text, remove_stale_temporaries
-from .rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, thickness_fits_pitch
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
 
@@ -332,7 +335,7 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
         header += [(k, _text(v)) for k, v in (recipe or {}).items() if k not in used]
     lines = [f"{k} = {v}".rstrip() for k, v in header]
     if result is not None and not error:
-        from .sensing import slot_readings
+        from ..scan.sensing import slot_readings
 
         readings = slot_readings(result) if sensor_settings.given_values(result.layout) \
             else None

@@ -4,15 +4,15 @@ same words, naming the parameters.txt line that set the value when it came from 
 
 from __future__ import annotations
 
-from .errors import InputError
-from .rules import offers_exact_edges
+from ..errors import InputError
+from ..rules import offers_exact_edges
 from .sensing import ideal_sensor
 
 
 def check_engine(layout, engine, source, parameters=None):
     """InputError when ``engine`` cannot scan ``layout``: exact edges (z_step = 0) come from the
     analytic engine only, and so do a beam spot's blocked fraction and latching in motion
-    (SPEC §10). ``source`` is the layout's file; ``parameters`` (core.mcs.Parameters) the
+    (SPEC §10). ``source`` is the layout's file; ``parameters`` (core.files.mcs.Parameters) the
     parameters.txt put over it, whose z_step line is named when it set z_step."""
     if layout.scan.exact and not offers_exact_edges(engine):
         message = (f"z_step = 0 asks for exact edges, which only the analytic engine gives "

@@ -8,7 +8,7 @@ import os
 import stat
 from pathlib import Path
 
-from .errors import InputError
+from ..errors import InputError
 
 # A scenario, a parameters.txt or a TOL.toml is kilobytes; a layout of 10,000 wafers written
 # as a scenario is a few megabytes. More is not one of them (and /dev/zero never ends).
