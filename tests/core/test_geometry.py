@@ -11,10 +11,10 @@ from waferscan.core.geometry.beam import (
     beam_hits_wafer,
     beam_hits_wafers,
     paper_beam_hits_wafer,
-    translation_range,
     wafer_bounds,
     wafer_columns,
 )
+from waferscan.core.geometry.ranges import translation_range
 from waferscan.core.model import Beam, Wafer, unit
 
 

@@ -1,6 +1,7 @@
-"""Sweeps with a beam spot (core/sweep/spot_scan.py): the array translation ranges are the scalar
-``translation_range``'s floats bit for bit, and a block of sampled layouts with a tilted beam,
-tilted wafers and a 1 mm spot maps exactly as the scalar path maps each layout."""
+"""Sweeps with a beam spot (core/sweep/spot_scan.py): the array translation ranges
+(core/geometry/ranges.py) are the scalar ``translation_range``'s floats bit for bit, and a block
+of sampled layouts with a tilted beam, tilted wafers and a 1 mm spot maps exactly as the scalar
+path maps each layout."""
 
 import math
 from dataclasses import replace
@@ -9,7 +10,8 @@ import numpy as np
 import pytest
 
 from waferscan.core.files.scenario import read_scenario
-from waferscan.core.geometry.beam import TOUCH_TOLERANCE, translation_range
+from waferscan.core.geometry.beam import TOUCH_TOLERANCE
+from waferscan.core.geometry.ranges import translation_range, translation_ranges
 from waferscan.core.mapping import BOUNDARY, WAFERSCAN
 from waferscan.core.model import Beam, Wafer
 from waferscan.core.sensor import spot as spot_module
@@ -102,7 +104,7 @@ def test_array_ranges_are_the_scalar_functions_bit_for_bit(tol):
         normal = np.array([c[2].normal for c in cases])
         radius = np.array([c[2].radius for c in cases])
         thickness = np.array([c[2].thickness for c in cases])
-        lo, hi, hit, covered = sweep_spot.translation_ranges(
+        lo, hi, hit, covered = translation_ranges(
             emitter, direction, axis, center, normal, radius, thickness, length, tol)
         hits = 0
         for j, (e, beam, wafer) in enumerate(cases):

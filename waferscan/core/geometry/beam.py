@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .bow import beam_hits_bowed_wafer, bowed_translation_range
+from .bow import beam_hits_bowed_wafer
 
 # Touching counts as blocked: the wafer is inflated by this much (mm) in every test (SPEC §2).
 TOUCH_TOLERANCE = 1e-9
@@ -50,7 +50,7 @@ def beam_hits_wafer(emitter, beam, wafer, tol=TOUCH_TOLERANCE):
         lo = max(lo, min(a, b))
         hi = min(hi, max(a, b))
     # Radius: |p + lam*q|^2 <= (R + tol)^2 (see _beam_across_wafer).
-    span = _rim_span(qq, pq, c)
+    span = rim_span(qq, pq, c)
     if span is None:
         return False
     return max(lo, span[0]) <= min(hi, span[1])
@@ -84,7 +84,7 @@ def _beam_across_wafer(emitter, direction, center, normal, radius, tol):
     return wn, en, qq, pq, c
 
 
-def _rim_span(qq, pq, c):
+def rim_span(qq, pq, c):
     """Where along the beam's line (lam) it is within the wafer's rim, the inflated cylinder:
     (low, high), infinite for a line along the axis inside it; None when never. With p and q the
     emitter's offset and the beam's direction projected on the wafer's plane: qq = q.q,
@@ -94,11 +94,11 @@ def _rim_span(qq, pq, c):
     disc = pq * pq - qq * c
     if disc < 0.0:
         return None
-    return _rim_roots(qq, pq, c, disc, _FloatOps)
+    return rim_roots(qq, pq, c, disc, FloatOps)
 
 
-class _FloatOps:
-    """The operations ``_rim_roots`` needs, for Python floats."""
+class FloatOps:
+    """The operations ``rim_roots`` needs, for Python floats."""
     sqrt = staticmethod(math.sqrt)
     copysign = staticmethod(math.copysign)
     minimum = staticmethod(min)
@@ -109,8 +109,8 @@ class _FloatOps:
         return num / den if den != 0.0 else 0.0
 
 
-class _ArrayOps:
-    """The operations ``_rim_roots`` needs, for numpy arrays (made when first needed: importing
+class ArrayOps:
+    """The operations ``rim_roots`` needs, for numpy arrays (made when first needed: importing
     numpy costs ~70 ms that the loop engine need not pay)."""
 
     def __init__(self, np):
@@ -121,10 +121,10 @@ class _ArrayOps:
         self.ratio_or_zero = lambda num, den: np.where(den != 0.0, num / den, 0.0)
 
 
-def _rim_roots(qq, pq, c, disc, ops):
+def rim_roots(qq, pq, c, disc, ops):
     """The roots (low, high) of qq*lam^2 + 2*pq*lam + c = 0, disc = pq^2 - qq*c >= 0 and qq != 0
-    (where not, the caller masks the answer), for floats (``ops`` = _FloatOps) and numpy arrays
-    (an _ArrayOps) alike: the one formulation both tests use, so they agree bit for bit."""
+    (where not, the caller masks the answer), for floats (``ops`` = FloatOps) and numpy arrays
+    (an ArrayOps) alike: the one formulation both tests use, so they agree bit for bit."""
     # The root pair without cancellation: q/qq and c/q.
     s = -pq - ops.copysign(ops.sqrt(disc), pq)
     r1 = s / qq
@@ -155,7 +155,7 @@ def beam_hits_wafers(ox, oy, oz, beam, cx, cy, cz, nx, ny, nz, radius, thickness
         qq_zero = qq == 0.0
         disc = pq * pq - qq * c
         ok &= np.where(qq_zero, c <= 0.0, disc >= 0.0)
-        rim_lo, rim_hi = _rim_roots(qq, pq, c, np.maximum(disc, 0.0), _ArrayOps(np))
+        rim_lo, rim_hi = rim_roots(qq, pq, c, np.maximum(disc, 0.0), ArrayOps(np))
         lo = np.where(qq_zero, lo, np.maximum(lo, rim_lo))
         hi = np.where(qq_zero, hi, np.minimum(hi, rim_hi))
         return ok & (lo <= hi)
@@ -330,189 +330,3 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
         if hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
             found.append(index)
     return found
-
-
-# --- Closed-form range of translations -------------------------------------------------------
-
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _cross_norm2(a, b):
-    x = a[1] * b[2] - a[2] * b[1]
-    y = a[2] * b[0] - a[0] * b[2]
-    z = a[0] * b[1] - a[1] * b[0]
-    return x * x + y * y + z * z
-
-
-def _solve_lines(l1, l2):
-    a1, b1, c1 = l1
-    a2, b2, c2 = l2
-    det = a1 * b2 - a2 * b1
-    scale = math.hypot(a1, b1) * math.hypot(a2, b2)
-    if scale == 0.0 or abs(det) <= 1e-14 * scale:
-        return None
-    return ((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det)
-
-
-def _line_meets_circle(line, p, q, g, r2):
-    """Points (lam, tau) of the line alpha*lam + beta*tau = gamma where |p + lam q + tau g| = r."""
-    alpha, beta, gamma = line
-    nn = alpha * alpha + beta * beta
-    if nn == 0.0:
-        return []
-    lam0, tau0 = gamma * alpha / nn, gamma * beta / nn
-    dlam, dtau = -beta, alpha
-    p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
-    v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
-    vv = _dot(v, v)
-    if vv == 0.0:
-        return []
-    pv = _dot(p0, v)
-    c = _dot(p0, p0) - r2
-    disc = pv * pv - vv * c
-    if disc < 0.0:
-        return []
-    root = math.sqrt(disc)
-    return [(lam0 + s * dlam, tau0 + s * dtau) for s in ((-pv - root) / vv, (-pv + root) / vv)]
-
-
-def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
-    """Closed form: the range [tau_lo, tau_hi] of translations tau along ``axis`` (a unit vector)
-    for which the beam moved to ``emitter + tau*axis`` meets the wafer; None if there is none.
-
-    The points emitter + lam*e + tau*axis, 0 <= lam <= L, that lie in the (convex) wafer form a
-    convex region of the (lam, tau) plane bounded by straight lines (the beam's ends, the two
-    faces) and by a conic (the rim). A linear function's extremes over such a region lie at a
-    corner of two boundaries, where a line crosses the conic, or where the conic is tangent to a
-    line tau = const; all those candidates are listed and the feasible ones kept.
-
-    A level beam 1 mm below a level wafer's bottom face, lifted straight up, meets the wafer
-    from 1 mm to 1.775 mm of travel (grown by the touching tolerance, 1e-9 mm, each way):
-
-    >>> from waferscan.core.model import Beam, Wafer
-    >>> wafer = Wafer("W1", (0.0, 0.0, 300.0), (0.0, 0.0, 1.0), 300.0, 0.775)
-    >>> beam = Beam((-200.0, 0.0, 299.0), (1.0, 0.0, 0.0), 400.0)
-    >>> low, high = translation_range(beam.emitter, beam, (0.0, 0.0, 1.0), wafer)
-    >>> round(low, 6), round(high, 6)
-    (1.0, 1.775)
-    """
-    if wafer.bow:
-        # SPEC §10; the flat range (of the flat wafer holding the bowed one) is this function's,
-        # given to bow.py so that it need not import this module.
-        return bowed_translation_range(emitter, beam, axis, wafer, tol, translation_range)
-    # Scalars, not tuples from generators, up to the common case below: this runs once per
-    # wafer of every analytic scan (the same arithmetic in the same order as _dot).
-    ex, ey, ez = beam.direction
-    nx, ny, nz = wafer.normal
-    cx, cy, cz = wafer.center
-    wx, wy, wz = emitter[0] - cx, emitter[1] - cy, emitter[2] - cz
-    ax, ay, az = axis
-    wn = wx * nx + wy * ny + wz * nz
-    en = ex * nx + ey * ny + ez * nz
-    an = ax * nx + ay * ny + az * nz
-    px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
-    qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
-    gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
-    r = wafer.radius + tol
-    r2 = r * r
-    t = wafer.thickness
-
-    if en == 0.0 and an != 0.0 and gx == 0.0 and gy == 0.0 and gz == 0.0:
-        return _level_wafer_range(wn, an, (px, py, pz), (qx, qy, qz), r2, t, beam.length, tol)
-    p, q, g = (px, py, pz), (qx, qy, qz), (gx, gy, gz)
-    bounds = _boundary_lines(wn, en, an, p, q, g, r2, t, beam.length, tol)
-    if bounds is None:
-        return None
-    lines, conic = bounds
-    candidates = _corner_candidates(lines, conic, p, q, g, r2)
-    return _feasible_range(candidates, wn, en, an, p, q, g, r, r2, t, beam.length, tol)
-
-
-def _level_wafer_range(wn, an, p, q, r2, t, length, tol):
-    """``translation_range``'s common case: a level wafer, the beam parallel to its faces, the
-    lift along its axis (an = axis.n != 0, nothing of the axis across the normal). The region is
-    a rectangle: the faces bound tau, the rim bounds lam alone. p and q: the emitter's offset and
-    the beam's direction across the normal; r2 the inflated radius squared."""
-    px, py, pz = p
-    qx, qy, qz = q
-    span = _rim_span(qx * qx + qy * qy + qz * qz, px * qx + py * qy + pz * qz,
-                     px * px + py * py + pz * pz - r2)
-    if span is None or span[1] < -tol or span[0] > length + tol:
-        return None
-    low, high = (-tol - wn) / an, (t + tol - wn) / an
-    return (min(low, high), max(low, high))
-
-
-def _boundary_lines(wn, en, an, p, q, g, r2, t, length, tol):
-    """The straight boundaries of ``translation_range``'s (lam, tau) region, as lines
-    alpha*lam + beta*tau = gamma: the beam's two ends, the two faces (unless the beam and the
-    axis both run along them), and the rim when it degenerates to two parallel lines. Returns
-    (lines, conic), conic True when the rim is a true conic still to be intersected; None when
-    the region is empty. p, q, g: the emitter's offset, the beam's direction and the axis across
-    the normal; wn, en, an their parts along it."""
-    lines = [(1.0, 0.0, -tol), (1.0, 0.0, length + tol)]
-    if en == 0.0 and an == 0.0:
-        if not -tol <= wn <= t + tol:
-            return None
-    else:
-        lines += [(en, an, -tol - wn), (en, an, t + tol - wn)]
-
-    qq, gg = _dot(q, q), _dot(g, g)
-    conic = False
-    if qq == 0.0 and gg == 0.0:
-        if _dot(p, p) > r2:
-            return None
-    elif _cross_norm2(q, g) <= 1e-20 * qq * gg:
-        # Beam and axis cross the normal along one line: the rim bounds one combination
-        # m = lam*qu + tau*gu between two roots, i.e. two parallel lines.
-        big = q if qq >= gg else g
-        norm = math.sqrt(_dot(big, big))
-        u = tuple(b / norm for b in big)
-        qu, gu, pu = _dot(q, u), _dot(g, u), _dot(p, u)
-        disc = pu * pu - (_dot(p, p) - r2)
-        if disc < 0.0:
-            return None
-        root = math.sqrt(disc)
-        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
-    else:
-        conic = True
-    return lines, conic
-
-
-def _corner_candidates(lines, conic, p, q, g, r2):
-    """The points (lam, tau) where the region's extremes in tau may lie: every crossing of two
-    boundary lines and, when the rim is a conic, where each line crosses it and where it is
-    tangent to a line tau = const."""
-    candidates = []
-    for i, first in enumerate(lines):
-        for second in lines[i + 1:]:
-            point = _solve_lines(first, second)
-            if point is not None:
-                candidates.append(point)
-    if conic:
-        for line in lines:
-            candidates += _line_meets_circle(line, p, q, g, r2)
-        # Where the rim is tangent to tau = const: d/dlam |p + lam q + tau g|^2 = 0.
-        candidates += _line_meets_circle((_dot(q, q), _dot(q, g), -_dot(q, p)), p, q, g, r2)
-    return candidates
-
-
-def _feasible_range(candidates, wn, en, an, p, q, g, r, r2, t, length, tol):
-    """(lowest, highest) tau among the candidates that lie in the region (on the beam, between
-    the faces, within the rim, each with 1e-9 mm of slack for rounding); None if none does."""
-    slack = 1e-9
-    feasible = []
-    for lam, tau in candidates:
-        if not -tol - slack <= lam <= length + tol + slack:
-            continue
-        h = wn + lam * en + tau * an
-        if not -tol - slack <= h <= t + tol + slack:
-            continue
-        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
-        if _dot(x, x) > r2 + 2.0 * r * slack:
-            continue
-        feasible.append(tau)
-    if not feasible:
-        return None
-    return (min(feasible), max(feasible))

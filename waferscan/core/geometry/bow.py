@@ -143,6 +143,50 @@ def bowed_translation_range(emitter, beam, axis, wafer, tol, flat_range):
     return _sampled_range(emitter, beam, axis, wafer, tol, flat_range)
 
 
+def bowed_translation_ranges(wn, en, an, p, q, radius, thickness, bow, length, tol):
+    """``bowed_translation_range``'s closed form over arrays (numpy), for level bowed wafers
+    lifted along their normal: the beam's frame per wafer (wn, en, an and the offsets p, q
+    across the normal, as geometry/ranges.py computes them), ``radius``, ``thickness`` and
+    ``bow`` (n,) in mm. Returns (lo, hi, hit): the same floats as the scalar function where
+    ``hit``."""
+    import numpy as np
+
+    px, py, pz = p
+    qx, qy, qz = q
+    pp = px * px + py * py + pz * pz
+    pq = px * qx + py * qy + pz * qz
+    qq = qx * qx + qy * qy + qz * qz
+    # _chord
+    r = radius + tol
+    disc = pq * pq - qq * (pp - r * r)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    a, b = (-pq - root) / qq, (-pq + root) / qq
+    c_lo = np.where(qq == 0.0, -tol, np.maximum(-tol, a))
+    c_hi = np.where(qq == 0.0, length + tol, np.minimum(length + tol, b))
+    hit = np.where(qq == 0.0, pp <= r * r, disc >= 0.0) & (c_lo <= c_hi)
+    k = bow / (radius * radius)
+    qa = -k * qq
+    qb = -2.0 * k * pq - en
+    qc = bow - k * pp - tol - wn
+
+    def extremes(c):
+        # _extremes over arrays: the ends of the chord, and the vertex where it lies inside
+        v1 = (qa * c_lo + qb) * c_lo + c
+        v2 = (qa * c_hi + qb) * c_hi + c
+        vertex = -qb / (2.0 * qa)
+        inside = (qa != 0.0) & (c_lo < vertex) & (vertex < c_hi)
+        v3 = (qa * vertex + qb) * vertex + c
+        small, big = np.minimum(v1, v2), np.maximum(v1, v2)
+        return np.where(inside, np.minimum(small, v3), small), \
+            np.where(inside, np.maximum(big, v3), big)
+
+    low = extremes(qc)[0]
+    high = extremes(qc + thickness + 2.0 * tol)[1]
+    lo = np.where(an > 0.0, low / an, high / an)
+    hi = np.where(an > 0.0, high / an, low / an)
+    return lo, hi, hit
+
+
 def _sampled_range(emitter, beam, axis, wafer, tol, flat_range):
     bow = wafer.bow
     nx, ny, nz = wafer.normal

@@ -20,9 +20,9 @@ from ..geometry.beam import (
     beam_hits_wafer,
     beam_hits_wafers,
     paper_beam_hits_wafer,
-    translation_range,
     wafer_columns,
 )
+from ..geometry.ranges import translation_range
 from ..rules import check_stepped
 
 
@@ -179,7 +179,7 @@ def wafer_edges(layout, wafer, tol=TOUCH_TOLERANCE):
 def _level_edger(layout, tol=TOUCH_TOLERANCE):
     """``wafer_edges(layout, wafer, tol)`` for a level scan (lift along Z, beam level) and a flat
     level wafer (normal (0, 0, 1), no bow), as a function of the wafer: ``translation_range``'s
-    level case (``_level_wafer_range``, ``_rim_span``, ``_rim_roots`` with floats) in one body,
+    level case (``_level_wafer_range``, ``rim_span``, ``rim_roots`` with floats) in one body,
     with the beam's values read once a scan. The same numbers bit for bit
     (tests/core/test_fixed_cost.py), without the five calls per wafer that were a third of an
     analytic scan of a fab's FOUP.
@@ -200,7 +200,7 @@ def _level_edger(layout, tol=TOUCH_TOLERANCE):
         wx, wy, wz = ox - cx, oy - cy, oz - cz
         r = wafer.diameter / 2.0 + tol
         c = wx * wx + wy * wy - r * r
-        # _level_wafer_range, and _rim_span in it
+        # _level_wafer_range, and rim_span in it
         if qq == 0.0:
             if c > 0.0:
                 return None
@@ -210,7 +210,7 @@ def _level_edger(layout, tol=TOUCH_TOLERANCE):
             disc = pq * pq - qq * c
             if disc < 0.0:
                 return None
-            root = -pq - copysign(sqrt(disc), pq)  # _rim_roots
+            root = -pq - copysign(sqrt(disc), pq)  # rim_roots
             r1 = root / qq
             r2 = c / root if root != 0.0 else 0.0
             low, high = (r1, r2) if r1 <= r2 else (r2, r1)  # min, max (finite: roots)

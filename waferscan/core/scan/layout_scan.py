@@ -38,17 +38,19 @@ from .scan_result import (
 )
 
 
-def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None):
+def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None,
+                ray_ranges=None):
     """Scan the layout with the named engine and map the scanned carrier's slots.
 
     ``stepper(layout, progress)``, when given, computes the hits in place of the core engine of
     that name (the CAD layer's ``document`` and ``brep`` engines come in this way); ``measure``
-    likewise measures a slow scan's jab and sweep (``slow_scan.probe_pocket``)."""
+    likewise measures a slow scan's jab and sweep (``slow_scan.probe_pocket``). ``ray_ranges``:
+    a beam spot's centre-ray ranges worked out beforehand by a sweep (core/sensor/spot.py)."""
     if layout.spot is not None or layout.scan.latch != "step":
         from .sensing import ideal_sensor, sensed_scan
 
         if not ideal_sensor(layout):  # SPEC §10: a beam spot, latching in motion
-            return sensed_scan(layout, engine, progress)
+            return sensed_scan(layout, engine, progress, ray_ranges)
     scan = layout.scan
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)

@@ -113,7 +113,7 @@ def _ideal_output(layout, window):
     return [(a, b, n) for (a, b), n in zip(spans, names)], wafer_spans
 
 
-def _spot_output(layout, spot, amplifier, window, moving):
+def _spot_output(layout, spot, amplifier, window, moving, ray_ranges=None):
     """Per stroke direction, the ON stretches (bottom, top, wafer names) of the output with a
     beam spot; and the signal's groups."""
     import numpy as np
@@ -127,13 +127,13 @@ def _spot_output(layout, spot, amplifier, window, moving):
     on_level, off_level = amplifier.threshold_on, amplifier.off_level
     # Every wafer: the accessibility check is made for the line beam, not for a spot.
     candidates = layout.wafers
-    groups = wafer_groups(layout, candidates, spot)
+    groups = wafer_groups(layout, candidates, spot, ray_ranges=ray_ranges)
     out = {up: [] for up in moving}
     signal, fractions, spans, names = [], [], [], []
     spacing = max(2.0 * spot.half_height, 1e-6) / SAMPLES_PER_SPOT
     for members, ranges, (tau_lo, tau_hi) in groups:
         wafers = [candidates[i] for i in members]
-        fraction = BlockedFraction(layout, wafers, spot, ranges)
+        fraction = BlockedFraction(layout, wafers, spot, ranges, ray_ranges=ray_ranges)
         z_lo, z_hi = z0 + tau_lo * az, z0 + tau_hi * az
         names.append(tuple(w.name for w in wafers))
         signal.append(SignalGroup(fraction, z0, az, (z_lo, z_hi), names[-1]))
@@ -177,7 +177,7 @@ def _spot_output(layout, spot, amplifier, window, moving):
     return out, signal
 
 
-def sensed_scan(layout, engine="analytic", progress=None):
+def sensed_scan(layout, engine="analytic", progress=None, ray_ranges=None):
     """Scan a layout with a real sensor (SPEC §10) and map its slots: the ``ScanResult`` of
     core/scan/layout_scan.py with ``edges`` (every latched ON/OFF edge in the order latched) and ``signal``
     (b along the scan)."""
@@ -217,7 +217,7 @@ def sensed_scan(layout, engine="analytic", progress=None):
         outputs = {up: ideal_runs for up in moving}
         signal = SignalTrace([], tuple((a, b) for a, b, _ in ideal_runs), 1.0, 1.0)
     else:
-        outputs, groups = _spot_output(layout, spot, amplifier, window, moving)
+        outputs, groups = _spot_output(layout, spot, amplifier, window, moving, ray_ranges)
         signal = SignalTrace(groups, (), amplifier.threshold_on, amplifier.off_level)
 
     edges = []

@@ -40,7 +40,8 @@ import math
 from dataclasses import dataclass, replace
 
 from .. import schema
-from ..geometry.beam import TOUCH_TOLERANCE, beam_hits_wafer, translation_range, wafer_bounds
+from ..geometry.beam import TOUCH_TOLERANCE, beam_hits_wafer, wafer_bounds
+from ..geometry.ranges import translation_range
 from ..mapping import (
     _SEVERITY,
     LIMIT_SLACK,

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..geometry.beam import translation_range
+from ..geometry.ranges import translation_range
 
 # Columns across the spot at which the per-column translation range is computed exactly; the
 # limits are linear between them. The oracle (a level wafer) is exact for any number; this many
@@ -143,60 +143,44 @@ def _merged(intervals):
     return out
 
 
-# A sweep's centre-ray ranges worked out beforehand over arrays (core/sweep/spot_scan.py):
-# {(id(wafer), id(beam)): ({s: j}, [range j, or _MISSING where not worked out])}, the same
-# floats ``translation_range`` gives; None: none.
-_PRECOMPUTED = None
-_MISSING = object()
+# In a table of centre-ray ranges worked out beforehand (``ray_ranges``, made by
+# core/sweep/spot_scan.py's ``range_table`` over arrays: {(id(wafer), id(beam)): ({s: j},
+# [range j, or MISSING])}, the same floats ``translation_range`` gives), a range not worked out.
+MISSING = object()
 
 
-class precomputed_ranges:
-    """Context: while it lasts, the spot's column ranges are looked up in ``table`` (built by
-    ``sweep_spot.range_table`` for wafers and beams that outlive it) before being computed."""
-
-    def __init__(self, table):
-        self.table = table
-
-    def __enter__(self):
-        global _PRECOMPUTED
-        self.before, _PRECOMPUTED = _PRECOMPUTED, self.table
-        return self.table
-
-    def __exit__(self, *exc):
-        global _PRECOMPUTED
-        _PRECOMPUTED = self.before
-        return False
-
-
-def _centre_ray_range(s, u, beam, axis, wafer):
-    """``translation_range`` (tol 0) of the centre ray of the spot's column at offset s."""
-    table = _PRECOMPUTED
+def _centre_ray_range(s, u, beam, axis, wafer, table=None):
+    """``translation_range`` (tol 0) of the centre ray of the spot's column at offset s, read
+    from ``table`` (``ray_ranges``) where it holds it."""
     if table is not None:
         entry = table.get((id(wafer), id(beam)))
         if entry is not None:
             j = entry[0].get(s)
-            if j is not None and entry[1][j] is not _MISSING:
+            if j is not None and entry[1][j] is not MISSING:
                 return entry[1][j]
     ox, oy, oz = beam.emitter
     return translation_range((ox + s * u[0], oy + s * u[1], oz + s * u[2]), beam, axis, wafer,
                              tol=0.0)
 
 
-def column_ranges(layout, wafer, spot, columns=COLUMNS):
+def column_ranges(layout, wafer, spot, columns=COLUMNS, ray_ranges=None):
     """For each column of the spot (``_column_positions``), the exact range (tau_lo, tau_hi) of
-    lift translations over which the column's centre ray meets the wafer, or None."""
+    lift translations over which the column's centre ray meets the wafer, or None; read from
+    ``ray_ranges`` (a sweep's table worked out beforehand, see MISSING) where it holds them."""
     beam, axis = layout.beam, layout.lift_axis
     u = spot_frame(beam.direction, axis)[0]
-    return [_centre_ray_range(s, u, beam, axis, wafer) for s in _column_positions(spot, columns)]
+    return [_centre_ray_range(s, u, beam, axis, wafer, ray_ranges)
+            for s in _column_positions(spot, columns)]
 
 
 class BlockedFraction:
     """b(tau) for a group of wafers (a callable over numpy arrays of lift translations tau,
     mm along the lift axis from the beam's start). Built once per group from the exact
     translation ranges of the spot's columns (``column_ranges`` of each wafer), reduced to
-    strips with linear limits."""
+    strips with linear limits. ``ranges``: the wafers' ``column_ranges`` when the caller has
+    them; ``ray_ranges``: a sweep's table of centre-ray ranges (``column_ranges``)."""
 
-    def __init__(self, layout, wafers, spot, ranges=None, columns=COLUMNS):
+    def __init__(self, layout, wafers, spot, ranges=None, columns=COLUMNS, ray_ranges=None):
         import numpy as np
 
         self.spot = spot
@@ -204,13 +188,13 @@ class BlockedFraction:
         u, _, _, beta = spot_frame(beam.direction, axis)
         self.beta = beta
         if ranges is None:
-            ranges = [column_ranges(layout, w, spot, columns) for w in wafers]
+            ranges = [column_ranges(layout, w, spot, columns, ray_ranges) for w in wafers]
         positions = _column_positions(spot, columns)
         at_nodes = [_merged([r[i] for r in ranges if r[i] is not None])
                     for i in range(columns + 1)]
 
         def at(s):
-            spans = (_centre_ray_range(s, u, beam, axis, w) for w in wafers)
+            spans = (_centre_ray_range(s, u, beam, axis, w, ray_ranges) for w in wafers)
             return _merged([x for x in spans if x is not None])
 
         pieces = []  # (sa, sb, lo_a, lo_b, hi_a, hi_b)
@@ -382,17 +366,17 @@ def _area_below(spot, sa, sb, ya, yb):
     return total
 
 
-def wafer_groups(layout, wafers, spot, columns=COLUMNS):
+def wafer_groups(layout, wafers, spot, columns=COLUMNS, ray_ranges=None):
     """The wafers whose blocked regions on the spot can overlap, grouped: a group's lift
     translations, grown by the spot's reach, overlap no other group's. Returns a sorted list of
     (indices, ranges, (tau_lo, tau_hi)): the wafers, their ``column_ranges`` and the range of
     translations over which the group can block any of the spot. Wafers no column meets are
-    left out."""
+    left out. ``ray_ranges`` as for ``column_ranges``."""
     beta = spot_frame(layout.beam.direction, layout.lift_axis)[3]
     reach = spot.half_height / beta
     spans = []
     for index, wafer in enumerate(wafers):
-        ranges = column_ranges(layout, wafer, spot, columns)
+        ranges = column_ranges(layout, wafer, spot, columns, ray_ranges)
         found = [r for r in ranges if r is not None]
         if found:
             spans.append((min(r[0] for r in found) - reach, max(r[1] for r in found) + reach,

@@ -5,10 +5,10 @@ scanned and mapped with the recipe, and the reported state of every slot is comp
 state that was placed. The draws, the scan and the mapping run in numpy over blocks of layouts
 at once (layouts x wafers), not as N scans in a Python loop:
 
-- exact edges per wafer, in closed form (``_ranges``: the same formulas as
-  ``geometry.translation_range`` and ``bow.bowed_translation_range``, over arrays: a level
-  wafer's faces, a tilted disc's extent along the lift through the corners of its region, a
-  level bowed wafer's lowest bottom and highest top over the beam's chord);
+- exact edges per wafer, in closed form (``geometry.ranges.translation_ranges``: the scalar
+  ``translation_range`` over arrays, the same floats: a level wafer's faces, a tilted disc's
+  extent along the lift through the corners of its region, a level bowed wafer's lowest bottom
+  and highest top over the beam's chord);
 - onto the step grid, where a grid position lies clearly inside or outside the edges; the rare
   wafer with an edge within ``GRID_MARGIN`` of a grid position, and the geometry the array
   formulas do not cover (a tilted bowed wafer), go through the scalar engine, so that the
@@ -47,6 +47,8 @@ from ..mapping import (
     SlotPlan,
     map_slots,
 )
+from ..geometry.beam import TOUCH_TOLERANCE
+from ..geometry.ranges import translation_ranges
 from ..model import DOWN, SLOW, UP, UPDOWN, Beam, Wafer
 
 # Layouts per block: the unit the seeds are derived for. Fixed, never taken from the workers.
@@ -59,7 +61,6 @@ SWEEP_CHUNK = 4096
 # A grid position nearer than this (mm) to a wafer's edge is settled by the scalar engine's own
 # test, not by the array formulas (which agree with it to ~1e-12 mm).
 GRID_MARGIN = 1e-7
-TOUCH_TOLERANCE = 1e-9
 # Reported state code of an unscanned slot in the sweep's arrays (mapping.UNSCANNED is "?").
 UNSCANNED = 7
 # Summary names, indexed by state code (SPEC §12).
@@ -370,17 +371,18 @@ def sample_layout(base, draws, i):
 
 # --- the scalar path (the oracle, and the spot's path) ---------------------------------------
 
-def scalar_layout_states(base, layout, peaks=None):
+def scalar_layout_states(base, layout, peaks=None, ray_ranges=None):
     """Reported state codes, measured thickness and bottom per slot (lists; None where a slot
     has no run) of one layout by the scalar path: ``scan_layout`` and the recipe's mapping.
     ``peaks``: a list to which the largest blocked fraction of each group of wafers a beam spot
-    saw is appended (SPEC §10; none for the ideal beam)."""
+    saw is appended (SPEC §10; none for the ideal beam). ``ray_ranges``: the block's centre-ray
+    ranges (``spot_scan.range_table``), for a beam spot."""
     from ..mapping import unscanned_slots
     from ..scan.layout_scan import scan_layout
     from ..scan.scan_result import protruding_slots
 
     plan = base.plan
-    result = scan_layout(layout)
+    result = scan_layout(layout, ray_ranges=ray_ranges)
     if peaks is not None and result.signal is not None:
         peaks.extend(group.peak for group in result.signal.groups)
     runs = [(r.bottom, r.top) for r in result.runs]
@@ -425,7 +427,6 @@ def spot_block(base, draws, peaks=None):
     ``scalar_block``, bit for bit (tests/core/test_sweep_spot.py)."""
     import numpy as np
 
-    from ..sensor import spot as spot_module
     from .spot_scan import lean_block, lean_spot_path, range_table
 
     layout = base.layout
@@ -436,20 +437,19 @@ def spot_block(base, draws, peaks=None):
     states = np.zeros((m, S), dtype=np.int8)
     thickness = np.full((m, S), np.nan)
     bottom = np.full((m, S), np.nan)
-    with spot_module.precomputed_ranges(table):
-        lean = [i for i, sample in enumerate(layouts) if lean_spot_path(sample)]
-        answers = dict(zip(lean, lean_block([layouts[i] for i in lean], table)))
-        for i, sample in enumerate(layouts):
-            if i in answers:
-                runs, group_peaks = answers[i]
-                if peaks is not None:
-                    peaks.extend(group_peaks)
-                st, th, bo = states_of_runs(base, sample, runs)
-            else:
-                st, th, bo = scalar_layout_states(base, sample, peaks)
-            states[i] = st
-            thickness[i] = [np.nan if v is None else v for v in th]
-            bottom[i] = [np.nan if v is None else v for v in bo]
+    lean = [i for i, sample in enumerate(layouts) if lean_spot_path(sample)]
+    answers = dict(zip(lean, lean_block([layouts[i] for i in lean], table)))
+    for i, sample in enumerate(layouts):
+        if i in answers:
+            runs, group_peaks = answers[i]
+            if peaks is not None:
+                peaks.extend(group_peaks)
+            st, th, bo = states_of_runs(base, sample, runs)
+        else:
+            st, th, bo = scalar_layout_states(base, sample, peaks, table)
+        states[i] = st
+        thickness[i] = [np.nan if v is None else v for v in th]
+        bottom[i] = [np.nan if v is None else v for v in bo]
     return states, thickness, bottom
 
 
@@ -486,190 +486,6 @@ def needs_scalar_path(layout):
 
 
 # --- the vectorised scan ---------------------------------------------------------------------
-
-def _ranges(emitter, direction, axis, center, normal, radius, thickness, bow, length, tol):
-    """Vectorised ``geometry.translation_range`` over wafers (1-D arrays; ``direction`` (n, 3)
-    the beam's per wafer). Returns (lo, hi, hit, scalar): the range of lift translations, hit
-    False where the beam never meets the wafer, ``scalar`` True where the array formulas do not
-    apply (the caller asks the scalar function there)."""
-    import numpy as np
-
-    ox, oy, oz = emitter
-    ax, ay, az = axis
-    ex, ey, ez = direction[:, 0], direction[:, 1], direction[:, 2]
-    cx, cy, cz = center[:, 0], center[:, 1], center[:, 2]
-    nx, ny, nz = normal[:, 0], normal[:, 1], normal[:, 2]
-    n = len(cx)
-    lo = np.full(n, np.nan)
-    hi = np.full(n, np.nan)
-    hit = np.zeros(n, dtype=bool)
-    scalar = np.zeros(n, dtype=bool)
-    if n == 0:
-        return lo, hi, hit, scalar
-    wx, wy, wz = ox - cx, oy - cy, oz - cz
-    wn = wx * nx + wy * ny + wz * nz
-    en = ex * nx + ey * ny + ez * nz
-    an = ax * nx + ay * ny + az * nz
-    px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
-    qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
-    gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
-    r = radius + tol
-    r2 = r * r
-    t = thickness
-    flat = bow == 0.0
-    g_zero = (gx == 0.0) & (gy == 0.0) & (gz == 0.0)
-    level = flat & (en == 0.0) & (an != 0.0) & g_zero
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # A level wafer (geometry._level_wafer_range): faces bound tau, the rim lam alone.
-        qq = qx * qx + qy * qy + qz * qz
-        pq = px * qx + py * qy + pz * qz
-        c = px * px + py * py + pz * pz - r2
-        disc = pq * pq - qq * c
-        s = -pq - np.copysign(np.sqrt(np.maximum(disc, 0.0)), pq)
-        r1 = s / qq
-        r2_ = np.where(s != 0.0, c / s, 0.0)
-        span_lo = np.where(qq == 0.0, -np.inf, np.minimum(r1, r2_))
-        span_hi = np.where(qq == 0.0, np.inf, np.maximum(r1, r2_))
-        rim_ok = np.where(qq == 0.0, c <= 0.0, disc >= 0.0)
-        rim_ok &= ~((span_hi < -tol) | (span_lo > length + tol))
-        low, high = (-tol - wn) / an, (t + tol - wn) / an
-        sel = level
-        lo[sel] = np.minimum(low, high)[sel]
-        hi[sel] = np.maximum(low, high)[sel]
-        hit[sel] = rim_ok[sel]
-
-        # A level bowed wafer lifted along its normal (bow.bowed_translation_range).
-        gg = gx * gx + gy * gy + gz * gz
-        bowed_level = ~flat & (an != 0.0) & (gg <= 1e-24)
-        if bowed_level.any():
-            b_lo, b_hi, b_hit = _bowed_level(wn, en, an, px, py, pz, qx, qy, qz, radius, t,
-                                             bow, length, tol)
-            lo[bowed_level] = b_lo[bowed_level]
-            hi[bowed_level] = b_hi[bowed_level]
-            hit[bowed_level] = b_hit[bowed_level]
-        general = flat & ~level
-        # geometry._boundary_lines' special cases: beam and axis both along the faces, or both
-        # without a part across the normal, go to the scalar function; beam and axis across
-        # the normal along one line (a level wafer and a tilted beam: g = 0) make the rim two
-        # parallel lines, handled here beside the true conic.
-        cross2 = ((qy * gz - qz * gy) ** 2 + (qz * gx - qx * gz) ** 2
-                  + (qx * gy - qy * gx) ** 2)
-        odd = general & (((en == 0.0) & (an == 0.0)) | ((qq == 0.0) & (gg == 0.0)))
-        scalar |= odd | (~flat & ~bowed_level)
-        general &= ~odd
-        if general.any():
-            idx = np.flatnonzero(general)
-            g_lo, g_hi, g_hit = _general_range(
-                wn[idx], en[idx], an[idx], (px[idx], py[idx], pz[idx]),
-                (qx[idx], qy[idx], qz[idx]), (gx[idx], gy[idx], gz[idx]), r[idx], r2[idx],
-                t[idx], length, tol, cross2[idx] <= 1e-20 * qq[idx] * gg[idx])
-            lo[idx], hi[idx], hit[idx] = g_lo, g_hi, g_hit
-    hit &= ~scalar
-    return lo, hi, hit, scalar
-
-
-def _bowed_level(wn, en, an, px, py, pz, qx, qy, qz, radius, t, bow, length, tol):
-    import numpy as np
-
-    pp = px * px + py * py + pz * pz
-    pq = px * qx + py * qy + pz * qz
-    qq = qx * qx + qy * qy + qz * qz
-    r = radius + tol
-    disc = pq * pq - qq * (pp - r * r)
-    root = np.sqrt(np.maximum(disc, 0.0))
-    a_, b_ = (-pq - root) / qq, (-pq + root) / qq
-    c_lo = np.where(qq == 0.0, -tol, np.maximum(-tol, a_))
-    c_hi = np.where(qq == 0.0, length + tol, np.minimum(length + tol, b_))
-    ok = np.where(qq == 0.0, pp <= r * r, disc >= 0.0) & (c_lo <= c_hi)
-    k = bow / (radius * radius)
-    A = -k * qq
-    B = -2.0 * k * pq - en
-    C = bow - k * pp - tol - wn
-
-    def extremes(cc):
-        v1 = (A * c_lo + B) * c_lo + cc
-        v2 = (A * c_hi + B) * c_hi + cc
-        vertex = -B / (2.0 * A)
-        inside = (A != 0.0) & (c_lo < vertex) & (vertex < c_hi)
-        v3 = (A * vertex + B) * vertex + cc
-        small = np.minimum(v1, v2)
-        big = np.maximum(v1, v2)
-        return np.where(inside, np.minimum(small, v3), small), \
-            np.where(inside, np.maximum(big, v3), big)
-
-    low = extremes(C)[0]
-    high = extremes(C + t + 2.0 * tol)[1]
-    lo = np.where(an > 0.0, low / an, high / an)
-    hi = np.where(an > 0.0, high / an, low / an)
-    return lo, hi, ok
-
-
-def _general_range(wn, en, an, p, q, g, r, r2, t, length, tol, parallel):
-    """geometry.translation_range's corners over arrays: every crossing of two boundary lines
-    (the beam's ends, the faces, and where ``parallel`` the rim as two parallel lines), and
-    elsewhere where each line and the tangent line meet the rim (a conic); the feasible ones'
-    lowest and highest tau."""
-    import numpy as np
-
-    def dot(a, b):
-        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-    one, zero = np.ones_like(wn), np.zeros_like(wn)
-    lines = [(one, zero, zero - tol), (one, zero, zero + (length + tol)),
-             (en, an, -tol - wn), (en, an, t + tol - wn)]
-    rows_ok = [True, True, True, True]
-    empty = np.zeros(wn.shape, dtype=bool)
-    if parallel.any():
-        qq, gg = dot(q, q), dot(g, g)
-        big = tuple(np.where(qq >= gg, qi, gi) for qi, gi in zip(q, g))
-        norm = np.sqrt(dot(big, big))
-        u = tuple(b / norm for b in big)
-        qu, gu, pu = dot(q, u), dot(g, u), dot(p, u)
-        disc = pu * pu - (dot(p, p) - r2)
-        empty = parallel & (disc < 0.0)
-        root = np.sqrt(np.maximum(disc, 0.0))
-        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
-        rows_ok += [parallel, parallel]
-    cands = []
-    for i, first in enumerate(lines):
-        for j in range(i + 1, len(lines)):
-            second = lines[j]
-            a1, b1, c1 = first
-            a2, b2, c2 = second
-            det = a1 * b2 - a2 * b1
-            scale = np.hypot(a1, b1) * np.hypot(a2, b2)
-            valid = ~((scale == 0.0) | (np.abs(det) <= 1e-14 * scale)) & rows_ok[i] & rows_ok[j]
-            cands.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
-    tangent = (dot(q, q), dot(q, g), -dot(q, p))
-    for alpha, beta, gamma in lines[:4] + [tangent]:
-        nn = alpha * alpha + beta * beta
-        lam0 = gamma * alpha / nn
-        tau0 = gamma * beta / nn
-        dlam, dtau = -beta, alpha
-        p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
-        v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
-        vv = dot(v, v)
-        pv = dot(p0, v)
-        cc = dot(p0, p0) - r2
-        disc = pv * pv - vv * cc
-        root = np.sqrt(np.maximum(disc, 0.0))
-        valid = (nn != 0.0) & (vv != 0.0) & (disc >= 0.0) & ~parallel
-        for s in ((-pv - root) / vv, (-pv + root) / vv):
-            cands.append((lam0 + s * dlam, tau0 + s * dtau, valid))
-    slack = 1e-9
-    best_lo = np.full(wn.shape, np.inf)
-    best_hi = np.full(wn.shape, -np.inf)
-    for lam, tau, valid in cands:
-        ok = valid & (-tol - slack <= lam) & (lam <= length + tol + slack)
-        h = wn + lam * en + tau * an
-        ok &= (-tol - slack <= h) & (h <= t + tol + slack)
-        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
-        ok &= dot(x, x) <= r2 + 2.0 * r * slack
-        best_lo = np.where(ok, np.minimum(best_lo, tau), best_lo)
-        best_hi = np.where(ok, np.maximum(best_hi, tau), best_hi)
-    hit = (best_lo <= best_hi) & ~empty
-    return best_lo, best_hi, hit
-
 
 def _scalar_steps(base, draws, i, s, k):
     """One wafer's stepped interval by the scalar engine (engines._snap_to_grid et al.)."""
@@ -710,14 +526,17 @@ def scan_block(base, draws):
     radius = np.full(len(li), 0.5 * base.carrier.wafer_diameter)
     thickness = draws.thickness.reshape(m, W)[li, wi]
     bow = draws.bow.reshape(m, W)[li, wi]
-    # In chunks of wafers: _ranges makes dozens of temporaries the length of its arrays, and
-    # a block's (~12,000 wafers) spill from the core's cache; a chunk's stay in it (SWEEP_CHUNK).
+    # In chunks of wafers: translation_ranges makes dozens of temporaries the length of its
+    # arrays, and a block's (~12,000 wafers) spill from the core's cache; a chunk's stay in it
+    # (SWEEP_CHUNK).
     direction = draws.direction[li]
     chunks = [slice(a, a + SWEEP_CHUNK) for a in range(0, len(li), SWEEP_CHUNK)] or [slice(0)]
-    parts = [_ranges(layout.beam.emitter, direction[c], layout.lift_axis, center[c], normal[c],
-                     radius[c], thickness[c], bow[c], layout.beam.length, TOUCH_TOLERANCE)
+    parts = [translation_ranges(layout.beam.emitter, direction[c], layout.lift_axis, center[c],
+                                normal[c], radius[c], thickness[c], layout.beam.length,
+                                TOUCH_TOLERANCE, bow[c])
              for c in chunks]
-    lo, hi, hit, scalar = (np.concatenate([p[k] for p in parts]) for k in range(4))
+    lo, hi, hit, covered = (np.concatenate([p[k] for p in parts]) for k in range(4))
+    scalar = ~covered
     z0 = layout.beam.emitter[2]
     az = layout.lift_axis[2]
     e0 = z0 + lo * az

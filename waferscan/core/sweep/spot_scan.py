@@ -6,15 +6,14 @@ of the whole block at once (``lean_block``), or each layout through the scalar s
 
 With a tilted beam every column of the spot (and every strip's middle column, where the spot
 engine checks its limits are linear) is a general ``translation_range``: the corners of a
-(lam, tau) region bounded by the beam's ends, the faces and the rim (core/geometry/beam.py),
-~40 µs each in Python, ~1,200 a layout of 25 slots. ``translation_ranges`` here is that
-function over arrays with the same arithmetic in the same order, so it gives the same floats
-bit for bit (tests/core/test_sweep_spot.py holds it so); where it cannot promise that (a bowed
-wafer, a level wafer's closed form, the degenerate rims, a pair of lines on the edge of
-``_solve_lines``'s parallel test) it says so and those ranges are left to the scalar function.
+(lam, tau) region bounded by the beam's ends, the faces and the rim (core/geometry/ranges.py),
+~40 µs each in Python, ~1,200 a layout of 25 slots. ``range_table`` works them out for a whole
+block with ``translation_ranges``, that function over arrays, the same floats bit for bit;
+what it cannot promise (a bowed wafer, the degenerate rims, a pair of lines on the edge of the
+parallel test) is left to the scalar function.
 
 The precomputed ranges are handed to core/sensor/spot.py as a table keyed by the wafer and the
-column's offset (``spot.precomputed_ranges``): a range the table lacks (a strip halved beyond
+column's offset (the ``ray_ranges`` argument): a range the table lacks (a strip halved beyond
 its middle column, an uncovered wafer) the spot engine computes itself.
 
 A scan read on the step grid (``lean_spot_path``) then goes through ``lean_block`` for the
@@ -32,155 +31,16 @@ from __future__ import annotations
 
 import math
 
+from ..geometry.ranges import translation_ranges
 from ..model import SLOW as SLOW_MODE
 from ..sensor import spot as spot_module
 
-# Where |det| of two boundary lines lies within this relative distance of _solve_lines's
-# parallel test (1e-14 * the lines' norms, with math.hypot) the scalar function decides.
-_EDGE_OF_PARALLEL = 1e-9
 # Translations evaluated at once by _BlockFraction (x the strips: ~25,000 floats an array).
 _CHUNK = 1000
 # Column ranges computed at once by range_table.
 _RANGE_CHUNK = 8192
 # A range the table leaves to the scalar function.
-MISSING = spot_module._MISSING
-
-
-def translation_ranges(emitter, direction, axis, center, normal, radius, thickness, length,
-                       tol):
-    """``geometry.translation_range`` of flat wafers over arrays: ``emitter``, ``direction``,
-    ``center`` and ``normal`` are (n, 3) arrays (or broadcast to them), ``radius`` and
-    ``thickness`` (n,) in mm, ``axis`` a unit 3-tuple, ``length`` and ``tol`` floats (mm).
-    Returns (lo, hi, hit, covered): where ``covered`` the range (lo, hi), or no range where
-    ``hit`` is False, is the scalar function's bit for bit; elsewhere ask the scalar function."""
-    import numpy as np
-
-    ox, oy, oz = emitter[:, 0], emitter[:, 1], emitter[:, 2]
-    ex, ey, ez = direction[:, 0], direction[:, 1], direction[:, 2]
-    nx, ny, nz = normal[:, 0], normal[:, 1], normal[:, 2]
-    cx, cy, cz = center[:, 0], center[:, 1], center[:, 2]
-    ax, ay, az = axis
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # The same expressions, in the same order, as translation_range's.
-        wx, wy, wz = ox - cx, oy - cy, oz - cz
-        wn = wx * nx + wy * ny + wz * nz
-        en = ex * nx + ey * ny + ez * nz
-        an = ax * nx + ay * ny + az * nz
-        px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
-        qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
-        gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
-        r = radius + tol
-        r2 = r * r
-        t = thickness
-        p, q, g = (px, py, pz), (qx, qy, qz), (gx, gy, gz)
-
-        def dot(a, b):
-            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-        level = (en == 0.0) & (an != 0.0) & (gx == 0.0) & (gy == 0.0) & (gz == 0.0)
-        qq, gg = dot(q, q), dot(g, g)
-        cross_x = q[1] * g[2] - q[2] * g[1]
-        cross_y = q[2] * g[0] - q[0] * g[2]
-        cross_z = q[0] * g[1] - q[1] * g[0]
-        cross = cross_x * cross_x + cross_y * cross_y + cross_z * cross_z
-        # Covered: the general path, four boundary lines and the rim as a conic or (beam and
-        # axis across the normal along one line, ``parallel``: a level wafer) two more lines.
-        covered = ~level & ~((en == 0.0) & (an == 0.0)) & ~((qq == 0.0) & (gg == 0.0))
-        parallel = cross <= 1e-20 * qq * gg
-        # _boundary_lines's parallel rim: m = lam*qu + tau*gu between two roots.
-        big = tuple(np.where(qq >= gg, qi, gi) for qi, gi in zip(q, g))
-        norm = np.sqrt(dot(big, big))
-        unit = tuple(b / norm for b in big)
-        qu, gu, pu = dot(q, unit), dot(g, unit), dot(p, unit)
-        rim_disc = pu * pu - (dot(p, p) - r2)
-        empty = parallel & (rim_disc < 0.0)
-        rim_root = np.sqrt(np.maximum(rim_disc, 0.0))
-
-        lo = np.full(wn.shape, np.inf)
-        hi = np.full(wn.shape, -np.inf)
-        # The level wafers' rows (a rim of two lines) and the others' (a conic) apart: each
-        # takes only its own candidates, the same floats as on all rows (elementwise).
-        for rows, rim_lines in ((np.flatnonzero(parallel), True),
-                                (np.flatnonzero(~parallel), False)):
-            if not len(rows):
-                continue
-            edge, lo[rows], hi[rows] = _extremes(
-                wn[rows], en[rows], an[rows], tuple(x[rows] for x in p),
-                tuple(x[rows] for x in q), tuple(x[rows] for x in g), r[rows], r2[rows],
-                t[rows], length, tol,
-                (qu[rows], gu[rows], pu[rows], rim_root[rows]) if rim_lines else None)
-            covered[rows] &= ~edge
-    hit = (lo <= hi) & ~empty
-    return lo, hi, hit, covered
-
-
-def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):
-    """``translation_range``'s corner candidates and feasible extremes on rows of one kind:
-    ``rim`` (qu, gu, pu, root) where the rim is two parallel lines, None where it is a conic.
-    Returns (edge, lo, hi): ``edge`` where _solve_lines's parallel test is too close to call."""
-    import numpy as np
-
-    def dot(a, b):
-        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-    one = np.ones_like(wn)
-    zero = np.zeros_like(wn)
-    lines = [(one, zero, np.full(wn.shape, -tol)), (one, zero, np.full(wn.shape, length + tol)),
-             (en, an, -tol - wn), (en, an, t + tol - wn)]
-    if rim is not None:
-        qu, gu, pu, root = rim
-        lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
-    edge = np.zeros(wn.shape, dtype=bool)
-    candidates = []
-    # The lines come in pairs of one direction (the beam's ends, the faces, the rim's two):
-    # such a pair's det is a product less itself, exactly 0, never a corner. A beam's end and
-    # the rim's line are parallel too where gu = 0 (a level wafer lifted along its axis).
-    family = (0, 0, 1, 1, 2, 2)
-    rim_along_beam = rim is not None and not np.any(rim[1])
-    for i, (a1, b1, c1) in enumerate(lines):
-        for j in range(i + 1, len(lines)):
-            if family[i] == family[j] or (rim_along_beam and family[i] == 0 and family[j] == 2):
-                continue
-            a2, b2, c2 = lines[j]
-            # _solve_lines
-            det = a1 * b2 - a2 * b1
-            scale = np.hypot(a1, b1) * np.hypot(a2, b2)
-            limit = 1e-14 * scale
-            # np.hypot may differ from math.hypot in the last bit: on the test's edge the
-            # scalar function decides.
-            edge |= np.abs(np.abs(det) - limit) <= _EDGE_OF_PARALLEL * limit
-            valid = ~((scale == 0.0) | (np.abs(det) <= limit))
-            candidates.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
-    if rim is None:
-        tangent = (dot(q, q), dot(q, g), -dot(q, p))
-        for alpha, beta, gamma in lines + [tangent]:
-            # _line_meets_circle
-            nn = alpha * alpha + beta * beta
-            lam0, tau0 = gamma * alpha / nn, gamma * beta / nn
-            dlam, dtau = -beta, alpha
-            p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
-            v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
-            vv = dot(v, v)
-            pv = dot(p0, v)
-            c = dot(p0, p0) - r2
-            disc = pv * pv - vv * c
-            root = np.sqrt(np.maximum(disc, 0.0))
-            valid = (nn != 0.0) & (vv != 0.0) & ~(disc < 0.0)
-            for s in ((-pv - root) / vv, (-pv + root) / vv):
-                candidates.append((lam0 + s * dlam, tau0 + s * dtau, valid))
-    # _feasible_range
-    slack = 1e-9
-    lo = np.full(wn.shape, np.inf)
-    hi = np.full(wn.shape, -np.inf)
-    for lam, tau, valid in candidates:
-        ok = valid & (-tol - slack <= lam) & (lam <= length + tol + slack)
-        h = wn + lam * en + tau * an
-        ok &= (-tol - slack <= h) & (h <= t + tol + slack)
-        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
-        ok &= ~(dot(x, x) > r2 + 2.0 * r * slack)
-        lo = np.where(ok, np.minimum(lo, tau), lo)
-        hi = np.where(ok, np.maximum(hi, tau), hi)
-    return edge, lo, hi
+MISSING = spot_module.MISSING
 
 
 def column_offsets(spot, columns=spot_module.COLUMNS):
@@ -378,34 +238,6 @@ def spot_runs(layout, table):
     return lean_block([layout], table)[0]
 
 
-def _groups(layout, spot, table):
-    """``spot.wafer_groups`` of the layout, the column ranges read from ``table`` (the same
-    floats; ``column_ranges`` where the table lacks a wafer's)."""
-    columns = spot_module.COLUMNS
-    beta = spot_module.spot_frame(layout.beam.direction, layout.lift_axis)[3]
-    reach = spot.half_height / beta
-    b_id = id(layout.beam)
-    spans = []
-    for index, wafer in enumerate(layout.wafers):
-        entry = table.get((id(wafer), b_id))
-        ranges = entry[1][:columns + 1] if entry is not None else None
-        if ranges is None or MISSING in ranges:
-            ranges = spot_module.column_ranges(layout, wafer, spot, columns)
-        found = [r for r in ranges if r is not None]
-        if found:
-            spans.append((min(r[0] for r in found) - reach, max(r[1] for r in found) + reach,
-                          index, ranges))
-    spans.sort(key=lambda x: (x[0], x[1]))
-    groups = []
-    for lo, hi, index, ranges in spans:
-        if groups and lo <= groups[-1][2][1]:
-            members, member_ranges, (glo, ghi) = groups[-1]
-            groups[-1] = (members + [index], member_ranges + [ranges], (glo, max(ghi, hi)))
-        else:
-            groups.append(([index], [ranges], (lo, hi)))
-    return groups
-
-
 def _table_strips(spot, rows):
     """``BlockedFraction``'s strips of groups of one wafer over arrays: ``rows`` holds each
     wafer's ranges at ``column_offsets`` (tuples or None). Returns (strips, fallback): per row
@@ -555,14 +387,14 @@ def lean_block(layouts, table):
         b_id = id(beam)
         low, high = layout.scan.start_z, layout.scan.final_z
         groups = []
-        for members, ranges, (tau_lo, tau_hi) in _groups(layout, spot, table):
+        for members, ranges, (tau_lo, tau_hi) in spot_module.wafer_groups(layout, layout.wafers, spot, ray_ranges=table):
             wafers = [layout.wafers[i] for i in members]
             entry = table.get((id(wafers[0]), b_id)) if len(wafers) == 1 else None
             index = None
             if entry is not None and MISSING not in entry[1]:
                 singles.append((li, len(groups), beta, entry[1]))
             else:
-                f = BlockedFraction(layout, wafers, spot, ranges)
+                f = BlockedFraction(layout, wafers, spot, ranges, ray_ranges=table)
                 index = fraction.add(beta, [getattr(f, name) for name in _BlockFraction.FIELDS])
             z_lo, z_hi = z0 + tau_lo * az, z0 + tau_hi * az
             groups.append([tuple(w.name for w in wafers), (max(z_lo, low), min(z_hi, high)),
@@ -594,7 +426,8 @@ def lean_block(layouts, table):
                 layout = layouts[li]
                 name = plans[li][gi][0][0]
                 wafer = next(w for w in layout.wafers if w.name == name)
-                f = BlockedFraction(layout, [wafer], spot, [list(row[:columns + 1])])
+                f = BlockedFraction(layout, [wafer], spot, [list(row[:columns + 1])],
+                                    ray_ranges=table)
                 fields = [getattr(f, name) for name in _BlockFraction.FIELDS]
             else:
                 data = np.array(strips, dtype=float).reshape(-1, 6)

@@ -1,0 +1,119 @@
+"""The translation range over arrays (``geometry.ranges.translation_ranges``) against the scalar
+``translation_range``, wafer by wafer, bit for bit: level and tilted wafers, level and tilted
+beams, bowed wafers, one emitter for all (a sweep's) and one per wafer (a spot's columns)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from waferscan.core.geometry.beam import TOUCH_TOLERANCE
+from waferscan.core.geometry.ranges import translation_range, translation_ranges
+from waferscan.core.model import Beam, Wafer
+
+
+def unit(v):
+    n = math.sqrt(sum(x * x for x in v))
+    return tuple(x / n for x in v)
+
+
+def cases(rng, count, bowed):
+    """(beam, wafer) pairs of every kind a sweep meets: kind 0 a level beam over a level wafer
+    (the closed form), 1 a tilted beam over a level wafer (the rim as two lines), 2 and 3 tilted
+    wafers (the rim a conic); ``bowed`` gives a third of them a bow."""
+    out = []
+    for i in range(count):
+        kind = i % 4
+        tilt = 0.0 if kind in (0, 1) else rng.uniform(-0.05, 0.05)
+        normal = unit((tilt, rng.uniform(-0.05, 0.05) if kind == 3 else 0.0, 1.0))
+        beam_tilt = 0.0 if kind == 0 else rng.uniform(-0.01, 0.01)
+        direction = unit((1.0, rng.uniform(-0.2, 0.2), beam_tilt))
+        emitter = (rng.uniform(-210.0, -150.0), rng.uniform(-160.0, 160.0),
+                   rng.uniform(295.0, 305.0))
+        bow = rng.uniform(-0.3, 0.3) if bowed and i % 3 == 0 else 0.0
+        wafer = Wafer("W", (rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0), 300.0), normal,
+                      300.0, rng.uniform(0.1, 1.5), bow=bow)
+        out.append((Beam(emitter, direction, 400.0), wafer))
+    return out
+
+
+def arrays(pairs):
+    return (np.array([b.direction for b, _ in pairs]), np.array([w.center for _, w in pairs]),
+            np.array([w.normal for _, w in pairs]), np.array([w.radius for _, w in pairs]),
+            np.array([w.thickness for _, w in pairs]), np.array([w.bow for _, w in pairs]))
+
+
+def compare(pairs, emitters, lo, hi, hit, covered, axis, tol):
+    """Asserts each covered wafer's answer is the scalar one exactly; returns (covered, met)."""
+    seen = met = 0
+    for j, ((beam, wafer), emitter) in enumerate(zip(pairs, emitters)):
+        if not covered[j]:
+            continue
+        seen += 1
+        expected = translation_range(emitter, beam, axis, wafer, tol=tol)
+        if expected is None:
+            assert not hit[j], (j, wafer, lo[j], hi[j])
+        else:
+            met += 1
+            assert hit[j] and (lo[j], hi[j]) == expected, (j, wafer, expected, lo[j], hi[j])
+    return seen, met
+
+
+@pytest.mark.parametrize("tol", [0.0, TOUCH_TOLERANCE])
+def test_one_emitter_per_wafer_flat_and_bowed(tol):
+    rng = np.random.default_rng(3)
+    axis = (0.0, 0.0, 1.0)
+    pairs = cases(rng, 1600, bowed=True)
+    emitters = [b.emitter for b, _ in pairs]
+    direction, center, normal, radius, thickness, bow = arrays(pairs)
+    lo, hi, hit, covered = translation_ranges(np.array(emitters), direction, axis, center, normal,
+                                              radius, thickness, 400.0, tol, bow)
+    seen, met = compare(pairs, emitters, lo, hi, hit, covered, axis, tol)
+    assert met > len(pairs) // 3
+    # What is left to the scalar function: the tilted bowed wafers (a third of half of them).
+    tilted_bowed = sum(1 for _, w in pairs if w.bow and w.normal != (0.0, 0.0, 1.0))
+    assert seen >= len(pairs) - tilted_bowed - 0.01 * len(pairs)
+    assert not any(covered[j] for j, (_, w) in enumerate(pairs)
+                   if w.bow and w.normal != (0.0, 0.0, 1.0))
+
+
+def test_one_emitter_for_every_wafer_as_a_sweep_has_it():
+    rng = np.random.default_rng(5)
+    axis = (0.0, 0.0, 1.0)
+    emitter = (-200.0, 0.0, 300.3)
+    pairs = [(Beam(emitter, b.direction, 400.0), w) for b, w in cases(rng, 800, bowed=True)]
+    direction, center, normal, radius, thickness, bow = arrays(pairs)
+    lo, hi, hit, covered = translation_ranges(emitter, direction, axis, center, normal, radius,
+                                              thickness, 400.0, TOUCH_TOLERANCE, bow)
+    seen, met = compare(pairs, [emitter] * len(pairs), lo, hi, hit, covered, axis,
+                        TOUCH_TOLERANCE)
+    assert seen > 0.8 * len(pairs) and met > 0.3 * len(pairs)
+
+
+def test_a_beam_beside_a_wafer_and_degenerate_rims():
+    axis = (0.0, 0.0, 1.0)
+    level = (0.0, 0.0, 1.0)
+    pairs = [
+        # the beam's line misses the rim: no range
+        (Beam((-200.0, 400.0, 299.0), (1.0, 0.0, 0.0), 400.0), Wafer("A", (0, 0, 300), level,
+                                                                     300.0, 0.775)),
+        # the beam ends before the wafer
+        (Beam((-1000.0, 0.0, 299.0), (1.0, 0.0, 0.0), 400.0), Wafer("B", (0, 0, 300), level,
+                                                                     300.0, 0.775)),
+        # a vertical beam through a level wafer (the beam along the axis): the scalar function's
+        (Beam((0.0, 0.0, 290.0), (0.0, 0.0, 1.0), 400.0), Wafer("C", (0, 0, 300), level,
+                                                                300.0, 0.775)),
+        # a wafer standing on edge, beam and lift along its faces: the scalar function's
+        (Beam((-200.0, 0.0, 300.0), (1.0, 0.0, 0.0), 400.0), Wafer("D", (0, 0, 300),
+                                                                   (0.0, 1.0, 0.0), 300.0, 0.775)),
+    ]
+    emitters = [b.emitter for b, _ in pairs]
+    direction, center, normal, radius, thickness, bow = arrays(pairs)
+    lo, hi, hit, covered = translation_ranges(np.array(emitters), direction, axis, center, normal,
+                                              radius, thickness, 400.0, 0.0, bow)
+    assert covered.tolist() == [True, True, False, False]
+    assert hit.tolist() == [False, False, False, False]
+    compare(pairs, emitters, lo, hi, hit, covered, axis, 0.0)
+    empty = translation_ranges(np.zeros(3), np.zeros((0, 3)), axis, np.zeros((0, 3)),
+                               np.zeros((0, 3)), np.zeros(0), np.zeros(0), 400.0, 0.0)
+    assert [len(x) for x in empty] == [0, 0, 0, 0]
