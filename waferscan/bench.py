@@ -705,7 +705,7 @@ def bench_sweep(paper, rounds, add, quick=False):
     2 (both started before the timing, as a user's cluster is), interleaved. Rows ``sweep``;
     returns {name: layouts a minute} and the 2-worker / 1-worker ratio."""
     from .core.sensor.spot import BeamSpot
-    from .core.sweep import run as sweep
+    from .core import sweep
     from .core.sweep.distributions import read_tolerances
     from .tolerance_study import DaskPartitions, local_cluster
 

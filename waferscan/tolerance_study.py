@@ -22,7 +22,7 @@ from pathlib import Path
 
 from .core.errors import InputError
 from .core.files.mcs import atomic_write_text
-from .core.sweep import run as sweep
+from .core import sweep
 from .core.sweep.distributions import read_tolerances
 
 # Partitions per worker: enough for the progress line to move and the load to even out; the

@@ -1,4 +1,4 @@
-"""Sweeps (SPEC §12): the vectorised draw-scan-map of core/sweep/run.py against the scalar path
+"""Sweeps (SPEC §12): the vectorised draw-scan-map of core/sweep/ against the scalar path
 (``scan_layout`` + ``map_slots`` on each sampled layout built as a normal Layout), closed-form
 rates within their 95 % intervals, and the same numbers for any grouping of the blocks."""
 
@@ -12,7 +12,8 @@ from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.mapping import BOUNDARY, CROSS, PRESENT, WAFERSCAN
 from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.spot import BeamSpot
-from waferscan.core.sweep import run as sweep
+from waferscan.core import sweep
+from waferscan.core.sweep import block_scan, reduction
 from waferscan.core.sweep.distributions import parse_tolerances
 
 PAPER = "resources/examples/paper.toml"
@@ -77,8 +78,8 @@ def test_vectorised_equals_scalar_path_with_everything_varied(rules, monkeypatch
     base = sweep.sweep_base(paper(), rules=rules)
     # The array formulas, not the scalar fallback, give (nearly) every wafer's steps.
     settled_by_scalar = []
-    scalar_steps = sweep._scalar_steps
-    monkeypatch.setattr(sweep, "_scalar_steps",
+    scalar_steps = block_scan.scalar_steps
+    monkeypatch.setattr(block_scan, "scalar_steps",
                         lambda *a: settled_by_scalar.append(a) or scalar_steps(*a))
     draws, fast, slow = oracle(base, parse_tolerances(EVERYTHING), 11, 200)
     assert len(settled_by_scalar) <= 0.001 * draws.exists.sum()
@@ -134,8 +135,8 @@ def test_vectorised_equals_scalar_path_for_level_wafers_and_a_tilted_beam(monkey
     """Level wafers crossed by a tilted beam: the rim bounds the beam alone, two parallel
     lines of translation_range's region (its degenerate conic), done in arrays too."""
     settled_by_scalar = []
-    scalar_steps = sweep._scalar_steps
-    monkeypatch.setattr(sweep, "_scalar_steps",
+    scalar_steps = block_scan.scalar_steps
+    monkeypatch.setattr(block_scan, "scalar_steps",
                         lambda *a: settled_by_scalar.append(a) or scalar_steps(*a))
     tol = parse_tolerances(EVERYTHING.replace("hi = 0.4", "hi = 0.0"))
     base = sweep.sweep_base(paper())
@@ -322,9 +323,9 @@ def test_beam_ranges_in_chunks_are_the_whole_blocks_bit_for_bit(chunk, monkeypat
     tol = parse_tolerances(EVERYTHING)
     draws = sweep.draw_block(base, tol, 11, 0, 60)
     assert draws.exists.sum() > 3 * chunk  # several chunks, not one
-    monkeypatch.setattr(sweep, "SWEEP_CHUNK", 10 ** 9)
+    monkeypatch.setattr(block_scan, "SWEEP_CHUNK", 10 ** 9)
     whole = sweep.scan_block(base, draws)
-    monkeypatch.setattr(sweep, "SWEEP_CHUNK", chunk)
+    monkeypatch.setattr(block_scan, "SWEEP_CHUNK", chunk)
     chunked = sweep.scan_block(base, draws)
     assert all(equal(a, b) for a, b in zip(whole, chunked))
 
@@ -350,7 +351,7 @@ def test_reduced_margins_are_those_of_every_partition_together(stride, monkeypat
     # Partitions of very different sizes (one empty, one of one value), values with many ties
     # and a long tail: the order statistics the brackets find, the percentiles and the
     # histograms must be numpy's on all the margins in one array.
-    monkeypatch.setattr(sweep, "DIGEST_STRIDE", stride)
+    monkeypatch.setattr(reduction, "DIGEST_STRIDE", stride)
     rng = np.random.default_rng(stride)
     sizes = [0, 1, 7, 2000, 513, 90]
     parts = []

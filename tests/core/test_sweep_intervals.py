@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from waferscan.core.files.scenario import parse_scenario
-from waferscan.core.sweep import run as sweep
+from waferscan.core import sweep
 from waferscan.core.sweep.distributions import parse_tolerances
 
 SEEDS = 100

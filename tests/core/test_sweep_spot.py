@@ -16,7 +16,7 @@ from waferscan.core.mapping import BOUNDARY, WAFERSCAN
 from waferscan.core.model import Beam, Wafer
 from waferscan.core.sensor import spot as spot_module
 from waferscan.core.sensor.spot import Amplifier, BeamSpot
-from waferscan.core.sweep import run as sweep
+from waferscan.core import sweep
 from waferscan.core.sweep import spot_scan as sweep_spot
 from waferscan.core.sweep.distributions import parse_tolerances
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from waferscan.core.files.scenario import read_scenario
-from waferscan.core.sweep import run as sweep
+from waferscan.core import sweep
 from waferscan.core.sweep.distributions import read_tolerances
 
 REPO = Path(__file__).resolve().parents[2]

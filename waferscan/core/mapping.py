@@ -35,6 +35,7 @@ E87 = {EMPTY: 1, PRESENT: 3, CROSS: 5, DOUBLE: 4, THIN: 2, POSITION_ERROR: 2, PR
 # When several findings land on one slot the worst one is reported.
 _SEVERITY = (EMPTY, PRESENT, THIN, POSITION_ERROR, DOUBLE, CROSS, PROTRUDING)
 _RANK = {state: rank for rank, state in enumerate(_SEVERITY)}  # _SEVERITY.index, looked up
+_RANK_OF_CODE = tuple(_RANK[code] for code in range(len(_SEVERITY)))  # by state code, for arrays
 
 # Limits are inclusive up to this much (mm), so that a length or offset that equals a limit is
 # not pushed across it by rounding (113.85 - 113.5 != 0.35 in binary floating point).
@@ -353,3 +354,108 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
     return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, states[slot],
                                     () if members[slot] is None else tuple(members[slot]))
                           for slot in range(1, count + 1)]))
+
+
+def map_runs(plan, bottom, top, ok):
+    """``map_slots`` over arrays (numpy), for m layouts at once: runs (m, R) by bottom and top
+    (latched, ascending per layout, ``ok`` where a run exists), by either rule set, the same
+    floats and the same states as ``map_slots`` layout by layout (tests/core/test_mapping_arrays.py).
+    Returns (states (m, S) codes, first_run (m, S): the index of the first run in each slot, R
+    where none). Protruding and unscanned slots are the caller's (``map_slots``' last steps)."""
+    import numpy as np
+
+    m, R = bottom.shape
+    S = plan.slot_count
+    eps = LIMIT_SLACK
+    length = top - bottom
+    if plan.thickness_correction != 1.0:
+        length = length / plan.thickness_correction
+    low, high = plan.thickness_window()
+    below, above = plan.position_window()
+    limit = plan.double_limit()
+    first = plan.first_slot_z
+    pitch = plan.pitch
+
+    def nearest(z):
+        return np.floor((z - first) / pitch + 0.5).astype(np.int64) + 1
+
+    def seat(slot):
+        return first + (slot - 1) * pitch
+
+    landings = []  # (slot, state, valid) arrays (m, R)
+    if plan.rules == BOUNDARY:
+        # _judge_by_boundaries over arrays, the same floats: references at seat + t/2,
+        # boundaries halfway between them, none beyond the outer slots.
+        first_reference = first + 0.5 * plan.wafer_thickness
+
+        def nearest_reference(z):
+            slot = np.floor((z - first_reference) / pitch + 0.5).astype(np.int64) + 1
+            return np.minimum(S, np.maximum(1, slot))
+
+        def reference(slot):
+            return seat(slot) + 0.5 * plan.wafer_thickness
+
+        def boundary(slot):
+            return reference(slot) + 0.5 * pitch
+
+        centre = 0.5 * (bottom + top)
+        slot = nearest_reference(centre)
+        lowest = nearest_reference(bottom)
+        highest = nearest_reference(top)
+        span = int(np.max(np.where(ok, highest - lowest, 0), initial=0))
+
+        def crossed(b):
+            bz = boundary(b)
+            return (b >= lowest) & (b < highest) & (bottom < bz - eps) & (top > bz + eps)
+
+        any_crossed = np.zeros((m, R), dtype=bool)
+        for j in range(span):
+            any_crossed |= crossed(lowest + j)
+        for j in range(span + 1):
+            s = lowest + j
+            spanned = crossed(s - 1) | crossed(s)
+            landings.append((s, np.full((m, R), CROSS), ok & any_crossed & spanned))
+        long_run = ~any_crossed & (length > limit + eps)
+        third = pitch / 3.0 + eps
+        up = long_run & (slot < S) & (boundary(slot) - centre <= third)
+        down = long_run & ~up & (slot > 1) & (centre - boundary(slot - 1) <= third)
+        landings.append((slot, np.full((m, R), CROSS), ok & (up | down)))
+        landings.append((np.where(up, slot + 1, slot - 1), np.full((m, R), CROSS),
+                         ok & (up | down)))
+        single = ok & ~any_crossed & ~up & ~down
+        offset = centre - reference(slot)
+        state = np.where(length > high + eps, DOUBLE,
+                         np.where(length < low - eps, THIN,
+                                  np.where((offset > above + eps) | (-offset > below + eps),
+                                           POSITION_ERROR, PRESENT)))
+        landings.append((slot, state, single))
+    else:
+        cross = length > limit + eps
+        middle = 0.5 * (bottom + top)
+        lower = np.floor((middle - first) / pitch).astype(np.int64) + 1
+        slot = nearest(bottom)
+        offset = bottom - seat(slot)
+        state = np.where((offset > above + eps) | (-offset > below + eps), POSITION_ERROR,
+                         np.where(length < low - eps, THIN,
+                                  np.where(length <= high + eps, PRESENT, DOUBLE)))
+        landings.append((np.where(cross, lower, slot), np.where(cross, CROSS, state), ok))
+        landings.append((lower + 1, np.full((m, R), CROSS), ok & cross))
+    rank = np.zeros(m * (S + 2), dtype=np.int64)
+    first_run = np.full(m * (S + 2), R, dtype=np.int64)
+    rows = np.broadcast_to(np.arange(m)[:, None], (m, R))
+    index = np.broadcast_to(np.arange(R)[None, :], (m, R))
+    ranks = np.array(_RANK_OF_CODE)
+    flat_landings = []
+    for slot, state, valid in landings:
+        v = valid & (slot >= 1) & (slot <= S)
+        cell = (rows * (S + 2) + np.where(v, slot, 0))[v]
+        np.maximum.at(rank, cell, ranks[np.asarray(state)[v]])
+        np.minimum.at(first_run, cell, index[v])
+        flat_landings.append((cell, np.asarray(state)[v], index[v]))
+    # A second run in a slot (not a cross-slotted one) is not a normally inserted wafer.
+    for cell, state, idx in flat_landings:
+        late = (state != CROSS) & (idx > first_run[cell])
+        np.maximum.at(rank, cell[late], _RANK_OF_CODE[POSITION_ERROR])
+    rank = rank.reshape(m, S + 2)[:, 1:S + 1]
+    first_run = first_run.reshape(m, S + 2)[:, 1:S + 1]
+    return np.array(_SEVERITY)[rank], first_run

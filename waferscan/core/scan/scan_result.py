@@ -202,6 +202,20 @@ def latcher(scan):
                                 0.5 * ((top + lag) + (top - lag)))
 
 
+def latch_runs(bottom, top, scan, lag=None):
+    """``latcher`` over arrays (numpy): the (bottom, top) of runs as latched and then ordered,
+    as ``SensorRun`` orders them. ``lag``: the scan's own (``latch_lag``) when None, else an
+    array that broadcasts (a sweep's lag per layout, 0 in a slow scan)."""
+    if lag is None:
+        lag = scan.latch_lag
+    if scan.mode == SLOW or scan.direction == UP:
+        return bottom + lag, top + lag
+    if scan.direction == DOWN:
+        return bottom - lag, top - lag
+    assert scan.direction == UPDOWN
+    return 0.5 * ((bottom + lag) + (bottom - lag)), 0.5 * ((top + lag) + (top - lag))
+
+
 def protrusion(carrier, wafer):
     """How far (mm) the wafer reaches out of the carrier's opening beyond a seated wafer: the
     solid's frontmost point along the carrier's ``front``, less a seated wafer's (its centre on
@@ -235,6 +249,21 @@ def front_reach(radius, thickness, bow, along):
     if along > 0.0:
         reach += thickness * along
     return reach
+
+
+def front_reaches(radius, thickness, bow, along):
+    """``front_reach`` over arrays (numpy) of wafers, the same floats."""
+    import numpy as np
+
+    across = np.sqrt(np.maximum(0.0, 1.0 - along * along))
+    reach = radius * across
+    curve = bow * along
+    if (curve > 0.0).any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vertex = across * radius * radius / (2.0 * curve)
+            inner = vertex * across + curve * (1.0 - vertex * vertex / (radius * radius))
+        reach = np.where((curve > 0.0) & (vertex < radius), inner, reach)
+    return reach + np.maximum(0.0, thickness * along)
 
 
 def _carrier_wafers(carrier, wafers):
@@ -296,6 +325,46 @@ def protruding_slots(carrier, plan, wafers):
     spans (a tilted, cross-slotted wafer occupies both of its slots)."""
     by_slot, found = protrusions_by_slot(carrier, plan, wafers)
     return sorted(by_slot), found
+
+
+def protruding_mask(carrier, plan, exists, center, normal, thickness, bow):
+    """``protruding_slots`` over arrays (numpy), for m layouts of W wafers each: ``exists``
+    (m, W), ``center`` and ``normal`` (m, W, 3), ``thickness`` and ``bow`` (m, W). Returns an
+    (m, S) mask, True where the load port's protrusion check flags the slot; the same slots as
+    ``protruding_slots`` layout by layout."""
+    import numpy as np
+
+    m = exists.shape[0]
+    S = plan.slot_count
+    out = np.zeros((m, S), dtype=bool)
+    c, n, t = center, normal, thickness
+    h = t / 2.0
+    mx, my, mz = c[..., 0] + h * n[..., 0], c[..., 1] + h * n[..., 1], c[..., 2] + h * n[..., 2]
+    r = 0.5 * carrier.wafer_diameter
+    z_lo = carrier.seat_z(1) - carrier.pitch
+    z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+    inside = exists & (np.hypot(mx - carrier.center[0], my - carrier.center[1]) < r) \
+        & (z_lo <= mz) & (mz <= z_hi)
+    fx, fy = carrier.front
+    along = n[..., 0] * fx + n[..., 1] * fy
+    # protrusion's sums: the solid's frontmost point, from the bottom centre
+    reach = (c[..., 0] - carrier.center[0]) * fx + (c[..., 1] - carrier.center[1]) * fy
+    reach = reach + front_reaches(r, t, bow, along)
+    flagged = inside & (reach - r > plan.protrusion_limit)
+    if not flagged.any():
+        return out
+    bows = np.abs(bow)
+    for i, w in zip(*np.nonzero(flagged)):
+        # protrusions_by_slot: the nearest slot to its bottom and every seat its Z extent spans
+        nz = float(n[i, w, 2])
+        half = r * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * float(t[i, w])
+                                                          + float(bows[i, w])) * abs(nz)
+        z0, z1 = float(mz[i, w]) - half, float(mz[i, w]) + half
+        out[i, plan.nearest_slot(z0) - 1] = True
+        for slot in range(1, S + 1):
+            if z0 <= plan.seat_z(slot) <= z1:
+                out[i, slot - 1] = True
+    return out
 
 
 def protrusions_by_slot(carrier, plan, wafers):
