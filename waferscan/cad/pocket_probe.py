@@ -148,15 +148,7 @@ def document_measure(scene, arm, layout):
         return False
 
     def bisect(test, clear, hit):
-        while abs(hit - clear) > TOLERANCE:
-            mid = 0.5 * (clear + hit)
-            if mid in (clear, hit):
-                break
-            if test(mid):
-                hit = mid
-            else:
-                clear = mid
-        return hit
+        return slow_scan.bisect_boundary(test, clear, hit, TOLERANCE)
 
     def measure(z, reach, amplitude):
         near = [index[w.name] for w in slow_scan.wafers_near(layout, z)]

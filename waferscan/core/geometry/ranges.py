@@ -20,7 +20,7 @@ import math
 from .beam import TOUCH_TOLERANCE, ArrayOps, rim_roots, rim_span
 from .bow import bowed_translation_range, bowed_translation_ranges
 
-__all__ = ["translation_range", "translation_ranges"]
+__all__ = ["merged_ranges", "translation_range", "translation_ranges"]
 
 # Where |det| of two boundary lines lies within this relative distance of ``_solve_lines``'s
 # parallel test (1e-14 times the lines' norms, taken with math.hypot, which np.hypot may miss by
@@ -74,6 +74,25 @@ def _line_meets_circle(line, p, q, g, r2):
     return [(lam0 + s * dlam, tau0 + s * dtau) for s in ((-pv - root) / vv, (-pv + root) / vv)]
 
 
+def _frame(emitter, direction, center, normal, axis):
+    """The beam and the lift in the wafer's frame, for floats and numpy arrays alike (each
+    argument a 3-tuple of floats or of arrays): with w the emitter's offset from the centre, e
+    the beam's direction, a the lift axis and n the normal, (w.n, e.n, a.n, p, q, g) where p,
+    q and g are w, e and a across the normal. Scalars, not generators: this runs once per
+    wafer of every analytic scan."""
+    ox, oy, oz = emitter
+    ex, ey, ez = direction
+    cx, cy, cz = center
+    nx, ny, nz = normal
+    ax, ay, az = axis
+    wx, wy, wz = ox - cx, oy - cy, oz - cz
+    wn = wx * nx + wy * ny + wz * nz
+    en = ex * nx + ey * ny + ez * nz
+    an = ax * nx + ay * ny + az * nz
+    return (wn, en, an, (wx - wn * nx, wy - wn * ny, wz - wn * nz),
+            (ex - en * nx, ey - en * ny, ez - en * nz), (ax - an * nx, ay - an * ny, az - an * nz))
+
+
 def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
     """Closed form: the range [tau_lo, tau_hi] of translations tau along ``axis`` (a unit vector)
     for which the beam moved to ``emitter + tau*axis`` meets the wafer; None if there is none.
@@ -98,26 +117,13 @@ def translation_range(emitter, beam, axis, wafer, tol=TOUCH_TOLERANCE):
         # SPEC §10; the flat range (of the flat wafer holding the bowed one) is this function's,
         # given to bow.py so that it need not import this module.
         return bowed_translation_range(emitter, beam, axis, wafer, tol, translation_range)
-    # Scalars, not tuples from generators, up to the common case below: this runs once per
-    # wafer of every analytic scan (the same arithmetic in the same order as _dot).
-    ex, ey, ez = beam.direction
-    nx, ny, nz = wafer.normal
-    cx, cy, cz = wafer.center
-    wx, wy, wz = emitter[0] - cx, emitter[1] - cy, emitter[2] - cz
-    ax, ay, az = axis
-    wn = wx * nx + wy * ny + wz * nz
-    en = ex * nx + ey * ny + ez * nz
-    an = ax * nx + ay * ny + az * nz
-    px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
-    qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
-    gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
+    wn, en, an, p, q, g = _frame(emitter, beam.direction, wafer.center, wafer.normal, axis)
     r = wafer.radius + tol
     r2 = r * r
     t = wafer.thickness
 
-    if en == 0.0 and an != 0.0 and gx == 0.0 and gy == 0.0 and gz == 0.0:
-        return _level_wafer_range(wn, an, (px, py, pz), (qx, qy, qz), r2, t, beam.length, tol)
-    p, q, g = (px, py, pz), (qx, qy, qz), (gx, gy, gz)
+    if en == 0.0 and an != 0.0 and g[0] == 0.0 and g[1] == 0.0 and g[2] == 0.0:
+        return _level_wafer_range(wn, an, p, q, r2, t, beam.length, tol)
     bounds = _boundary_lines(wn, en, an, p, q, g, r2, t, beam.length, tol)
     if bounds is None:
         return None
@@ -215,6 +221,18 @@ def _feasible_range(candidates, wn, en, an, p, q, g, r, r2, t, length, tol):
     return (min(feasible), max(feasible))
 
 
+def merged_ranges(ranges):
+    """The union of closed intervals (low, high): a sorted list of disjoint ones, those that
+    overlap or touch joined."""
+    out = []
+    for low, high in sorted(ranges):
+        if out and low <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], high))
+        else:
+            out.append((low, high))
+    return out
+
+
 # --- over arrays -------------------------------------------------------------------------------
 
 def translation_ranges(emitter, direction, axis, center, normal, radius, thickness, length, tol,
@@ -233,14 +251,10 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
 
     emitter = np.asarray(emitter, dtype=float)
     if emitter.ndim == 1:
-        ox, oy, oz = (float(v) for v in emitter)
+        emitter = tuple(float(v) for v in emitter)
     else:
-        ox, oy, oz = emitter[:, 0], emitter[:, 1], emitter[:, 2]
-    ex, ey, ez = direction[:, 0], direction[:, 1], direction[:, 2]
-    cx, cy, cz = center[:, 0], center[:, 1], center[:, 2]
-    nx, ny, nz = normal[:, 0], normal[:, 1], normal[:, 2]
-    ax, ay, az = axis
-    n = len(cx)
+        emitter = (emitter[:, 0], emitter[:, 1], emitter[:, 2])
+    n = len(center)
     lo = np.full(n, np.nan)
     hi = np.full(n, np.nan)
     hit = np.zeros(n, dtype=bool)
@@ -248,18 +262,12 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
     if n == 0:
         return lo, hi, hit, covered
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # translation_range's expressions, in its order.
-        wx, wy, wz = ox - cx, oy - cy, oz - cz
-        wn = wx * nx + wy * ny + wz * nz
-        en = ex * nx + ey * ny + ez * nz
-        an = ax * nx + ay * ny + az * nz
-        px, py, pz = wx - wn * nx, wy - wn * ny, wz - wn * nz
-        qx, qy, qz = ex - en * nx, ey - en * ny, ez - en * nz
-        gx, gy, gz = ax - an * nx, ay - an * ny, az - an * nz
+        wn, en, an, p, q, g = _frame(emitter, tuple(direction.T), tuple(center.T),
+                                     tuple(normal.T), axis)
+        (qx, qy, qz), (gx, gy, gz) = q, g
         r = radius + tol
         r2 = r * r
         t = thickness
-        p, q, g = (px, py, pz), (qx, qy, qz), (gx, gy, gz)
         flat = np.ones(n, dtype=bool) if bow is None else bow == 0.0
         qq, gg = _dot(q, q), _dot(g, g)
 

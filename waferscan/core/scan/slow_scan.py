@@ -41,7 +41,7 @@ from dataclasses import dataclass, replace
 
 from .. import schema
 from ..geometry.beam import TOUCH_TOLERANCE, beam_hits_wafer, wafer_bounds
-from ..geometry.ranges import translation_range
+from ..geometry.ranges import merged_ranges, translation_range
 from ..mapping import (
     _SEVERITY,
     LIMIT_SLACK,
@@ -369,7 +369,7 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
         for a, b in zip(points, points[1:]):
             if inside(0.5 * (a + b)):
                 spans.append((a, b))
-        return _merged(spans)
+        return merged_ranges(spans)
     import numpy as np
 
     count = max(3, int(math.ceil(2.0 * amplitude / SWEEP_GRID_DEG)) + 1)
@@ -382,9 +382,9 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
     for i, j in zip(edges, edges[1:]):
         if not states[j]:
             continue  # a clear stretch
-        low = -amplitude if i < 0 else _bisect_state(inside, float(grid[i]), float(grid[i + 1]))
+        low = -amplitude if i < 0 else bisect_boundary(inside, float(grid[i]), float(grid[i + 1]))
         high = (amplitude if j == count - 1
-                else _bisect_state(inside, float(grid[j + 1]), float(grid[j])))
+                else bisect_boundary(inside, float(grid[j + 1]), float(grid[j])))
         spans.append((low, high))
     return spans
 
@@ -407,10 +407,12 @@ def _tine_grid(px, py, pz, direction, wafer, wx, wy, grid, tol):
     return np.asarray(hits, dtype=bool)
 
 
-def _bisect_state(inside, clear, within):
-    """The boundary between an angle where ``inside`` is False and one where it is True, to
-    SWEEP_TOLERANCE_DEG: the last angle found inside."""
-    while abs(within - clear) > SWEEP_TOLERANCE_DEG:
+def bisect_boundary(inside, clear, within, tolerance=None):
+    """The boundary between a value where ``inside`` is False (``clear``) and one where it is
+    True (``within``), to ``tolerance`` (default SWEEP_TOLERANCE_DEG, for wrist angles): the last
+    value found inside."""
+    tolerance = SWEEP_TOLERANCE_DEG if tolerance is None else tolerance
+    while abs(within - clear) > tolerance:
         mid = 0.5 * (clear + within)
         if mid in (clear, within):
             break
@@ -419,17 +421,6 @@ def _bisect_state(inside, clear, within):
         else:
             clear = mid
     return within
-
-
-def _merged(spans):
-    """Intervals (low, high) joined where they overlap or touch, in order."""
-    out = []
-    for low, high in sorted(spans):
-        if out and low <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], high))
-        else:
-            out.append((low, high))
-    return out
 
 
 def sweep_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE, exact=True):
@@ -441,7 +432,7 @@ def sweep_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANC
     SWEEP_GRID_DEG (a strike narrower than that can be missed). ``exact=False`` forces the
     bracket-and-bisect path for every wafer (for tests)."""
     by_tine = tine_strikes(layout, z, advance, amplitude, wafers, tol, exact)
-    return tuple(_merged(list(by_tine[0] + by_tine[1])))
+    return tuple(merged_ranges(list(by_tine[0] + by_tine[1])))
 
 
 def tine_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE, exact=True):
@@ -450,7 +441,7 @@ def tine_strikes(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE
     wafers = wafers_near(layout, z) if wafers is None else wafers
     emitter, beam = beam_at(layout, z, advance)
     wx, wy = wrist_axis(layout, z, advance)
-    return tuple(tuple(_merged([span for wafer in wafers
+    return tuple(tuple(merged_ranges([span for wafer in wafers
                                 for span in _tine_spans(emitter, beam, end, wafer, wx, wy,
                                                         amplitude, tol, exact)]))
                  for end in (0, 1))

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..geometry.ranges import translation_range
+from ..geometry.ranges import merged_ranges, translation_range
 
 # Columns across the spot at which the per-column translation range is computed exactly; the
 # limits are linear between them. The oracle (a level wafer) is exact for any number; this many
@@ -132,17 +132,6 @@ def _extends(piece, s, limits, tol=1e-12):
             and abs(hi_a + f * (hi_b - hi_a) - limits[1]) <= tol)
 
 
-def _merged(intervals):
-    """Union of closed intervals as a sorted list of disjoint (lo, hi)."""
-    out = []
-    for lo, hi in sorted(intervals):
-        if out and lo <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], hi))
-        else:
-            out.append((lo, hi))
-    return out
-
-
 # In a table of centre-ray ranges worked out beforehand (``ray_ranges``, made by
 # core/sweep/spot_scan.py's ``range_table`` over arrays: {(id(wafer), id(beam)): ({s: j},
 # [range j, or MISSING])}, the same floats ``translation_range`` gives), a range not worked out.
@@ -190,12 +179,12 @@ class BlockedFraction:
         if ranges is None:
             ranges = [column_ranges(layout, w, spot, columns, ray_ranges) for w in wafers]
         positions = _column_positions(spot, columns)
-        at_nodes = [_merged([r[i] for r in ranges if r[i] is not None])
+        at_nodes = [merged_ranges([r[i] for r in ranges if r[i] is not None])
                     for i in range(columns + 1)]
 
         def at(s):
             spans = (_centre_ray_range(s, u, beam, axis, w, ray_ranges) for w in wafers)
-            return _merged([x for x in spans if x is not None])
+            return merged_ranges([x for x in spans if x is not None])
 
         pieces = []  # (sa, sb, lo_a, lo_b, hi_a, hi_b)
 

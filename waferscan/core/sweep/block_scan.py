@@ -37,29 +37,12 @@ def scalar_layout_states(base, layout, peaks=None, ray_ranges=None):
     ``peaks``: a list to which the largest blocked fraction of each group of wafers a beam spot
     saw is appended (SPEC §10; none for the ideal beam). ``ray_ranges``: the block's centre-ray
     ranges (``spot_scan.range_table``), for a beam spot."""
-    from ..mapping import unscanned_slots
     from ..scan.layout_scan import scan_layout
-    from ..scan.scan_result import protruding_slots
 
-    plan = base.plan
     result = scan_layout(layout, ray_ranges=ray_ranges)
     if peaks is not None and result.signal is not None:
         peaks.extend(group.peak for group in result.signal.groups)
-    runs = [(r.bottom, r.top) for r in result.runs]
-    flagged, _ = protruding_slots(base.carrier, plan, layout.wafers)
-    unscanned = unscanned_slots(plan, (layout.scan.start_z, layout.scan.final_z))
-    slot_map = map_slots(plan, runs, flagged, unscanned)
-    states, thickness, bottom = [], [], []
-    for slot in slot_map.slots:
-        states.append(UNSCANNED if slot.state == mapping.UNSCANNED else slot.state)
-        if slot.runs:
-            run = result.runs[slot.runs[0]]
-            thickness.append(run.diff)
-            bottom.append(run.bottom)
-        else:
-            thickness.append(None)
-            bottom.append(None)
-    return states, thickness, bottom
+    return states_of_runs(base, layout, result.runs)
 
 
 def scalar_block(base, draws, peaks=None):
