@@ -707,7 +707,7 @@ def bench_sweep(paper, rounds, add, quick=False):
     from .core.sensor.spot import BeamSpot
     from .core import sweep
     from .core.sweep.distributions import read_tolerances
-    from .tolerance_study import DaskPartitions, local_cluster
+    from .sweep import DaskPartitions, local_cluster
 
     tolerances = read_tolerances(SWEEP_TOLERANCES)
     spot = replace(paper, spot=BeamSpot(diameter=1.0))

@@ -21,12 +21,11 @@ from .core.files.mcs import (
     PARAMETERS,
     RESULTS,
     Parameters,
-    atomic_write_text,
     format_parameters,
     format_results,
     read_parameters,
 )
-from .core.files.text_files import check_output_path
+from .core.files.text_files import atomic_write_text, check_output_path
 from .core.model import DIRECTIONS, MODES
 from .core.scan.engines import CAD_ENGINES, ENGINES
 
@@ -333,13 +332,13 @@ def cmd_bench(args):
 
 
 def cmd_sweep(args):
-    from . import tolerance_study
+    from . import sweep
 
     if args.out:  # refused before the sweep, not after it
-        tolerance_study.output_folder(args.out)
-    progress = tolerance_study.ProgressLine(args.n)
+        sweep.output_folder(args.out)
+    progress = sweep.ProgressLine(args.n)
     try:
-        summary, histograms = tolerance_study.run_study(
+        summary, histograms = sweep.run(
             args.input, args.tolerances, args.n, seed=args.seed, workers=args.workers,
             scheduler=args.scheduler, partition_count=args.partitions, rules=args.rules,
             progress=progress)
@@ -349,9 +348,9 @@ def cmd_sweep(args):
     if args.json:
         print(json.dumps(summary, indent=2), flush=True)
     else:
-        print(tolerance_study.format_summary(summary), flush=True)
+        print(sweep.format_summary(summary), flush=True)
     if args.out:
-        tolerance_study.write_outputs(summary, args.out, histograms)
+        sweep.write_outputs(summary, args.out, histograms)
         if not args.json:
             print(f"\nsummary.json, CSV tables and PNG plots written to {Path(args.out)}/")
     return 0

@@ -130,7 +130,7 @@ def test_watch_command_end_to_end(tmp_path):
 
 WRITER = """
 import sys
-from waferscan.core.files.mcs import atomic_write_text
+from waferscan.core.files.text_files import atomic_write_text
 versions = [("A" * 200 + "\\n") * 500, ("B" * 100 + "\\n") * 900]
 print("ready", flush=True)
 i = 0

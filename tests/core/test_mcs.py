@@ -14,13 +14,13 @@ from waferscan.core.errors import InputError
 from waferscan.core.files import mcs
 from waferscan.core.files.mcs import (
     apply_parameters,
-    atomic_write_text,
     format_parameters,
     format_results,
     parse_commands,
     parse_parameters,
     used_parameters,
 )
+from waferscan.core.files.text_files import atomic_write_text
 from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 

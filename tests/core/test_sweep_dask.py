@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from waferscan import cli, tolerance_study
+from waferscan import cli, sweep
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = str(ROOT / "resources/examples/paper.toml")
@@ -46,7 +46,7 @@ def tol_file(tmp_path):
 
 
 def study(tol_file, **kw):
-    return tolerance_study.run_study(PAPER, tol_file, 1300, seed=4, **kw)[0]
+    return sweep.run(PAPER, tol_file, 1300, seed=4, **kw)[0]
 
 
 def test_one_and_two_local_workers_and_no_dask_give_the_same_summary(tol_file):
@@ -167,7 +167,7 @@ def test_local_workers_keep_glibcs_adaptive_memory_trim(tol_file):
     keeps Dask's other settings (one thread for OpenMP/BLAS in each single-threaded worker)."""
     from distributed import Client
 
-    cluster = tolerance_study.local_cluster(1)
+    cluster = sweep.local_cluster(1)
     try:
         with Client(cluster) as client:
             seen = list(client.run(lambda: (os.environ.get("MALLOC_TRIM_THRESHOLD_"),
@@ -188,7 +188,7 @@ def test_local_workers_do_not_sample_their_tasks_for_a_dashboard_profile(tol_fil
     slower than one process. The local cluster's workers run without it."""
     from distributed import Client
 
-    cluster = tolerance_study.local_cluster(1)
+    cluster = sweep.local_cluster(1)
     try:
         with Client(cluster) as client:
             seen = list(client.run(_profiling).values())

@@ -15,7 +15,7 @@ import FreeCAD as App
 
 from ..core.errors import InputError
 from ..core.files.scenario import key_line, read_scenario
-from ..core.files.text_files import read_text, remove_stale_temporaries
+from ..core.files.text_files import read_text, replacing
 from .builder import build_document, document_preference_on
 
 
@@ -158,38 +158,18 @@ def save_document(doc, path):
         raise InputError(path, None, "a FreeCAD layout is saved as .FCStd")
     if not path.parent.is_dir():
         raise InputError(path, None, f"no folder {path.parent}")
-    # A save killed before its rename left its temporary file (the pid is in its name): gone.
-    remove_stale_temporaries(path.parent, f".{path.stem}.", ".tmp.FCStd")
-    temporary = path.with_name(f".{path.stem}.{os.getpid()}.tmp.FCStd")
     try:
-        with binary_shapes(), _origins_hidden(doc):
-            doc.saveAs(str(temporary))
-        if not App.GuiUp:
-            _add_view_data(doc, temporary)
-        _flush_to_disk(temporary)  # the new file whole on disk before it takes the name
-        os.replace(temporary, path)
-        _flush_to_disk(path.parent)  # and the rename itself
+        # A save killed before its rename left its temporary file (the pid is in its name): the
+        # next removes it. FreeCAD keeps a backup of a file it saves over: none there yet.
+        with replacing(path, prefix=f".{path.stem}.", suffix=".tmp.FCStd", create=False) \
+                as temporary:
+            with binary_shapes(), _origins_hidden(doc):
+                doc.saveAs(str(temporary))
+            if not App.GuiUp:
+                _add_view_data(doc, temporary)
     except Exception as exc:  # FreeCAD reports a failed save as a plain Exception
         raise InputError(path, None, f"cannot write: {getattr(exc, 'strerror', None) or exc}") \
             from None
-    finally:
-        if temporary.exists():
-            temporary.unlink()
-
-
-def _flush_to_disk(path):
-    """fsync a file or a folder (a folder that cannot be opened for it, on some shares, is
-    left to the system)."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def _xml_attribute(text):

@@ -20,11 +20,11 @@ from ..core.files.mcs import (
     COMMANDS,
     PARAMETERS,
     apply_parameters,
-    atomic_write_text,
     format_parameters,
     parse_parameters,
 )
 from ..core.files.mcs_link import LockLost, McsLink, ScanStopped
+from ..core.files.text_files import atomic_write_text
 from . import preferences
 from .inputs import folder_row
 from .qt import ClosableTaskPanel

@@ -189,7 +189,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
             return
         out = Path(self.out_edit.text().strip())
         self.summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
-        from ..tolerance_study import format_summary
+        from ..sweep import format_summary
 
         self.text.setPlainText(format_summary(self.summary))
         for label, name in ((self.confusion_label, "confusion.png"),

@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..core.errors import InputError
+from ..core.files.text_files import replacing
 from ..core.scan.sensing import SignalTrace
 
 FORMATS = (".png", ".svg")
@@ -96,16 +97,13 @@ def plot_signal(result, path, drawn=None):
         from .pockets import draw_pockets
 
         draw_pockets(figure, grid[2, :], result, drawn)
-    temporary = path.with_name(f".{path.name}.tmp{path.suffix}")
     try:
-        figure.savefig(str(temporary), dpi=110)
-        temporary.replace(path)
+        with replacing(path, suffix=f".tmp{path.suffix}") as temporary:
+            figure.savefig(str(temporary), dpi=110)
     except OSError as exc:
         raise InputError(str(path), None, f"cannot write: {exc.strerror}") from None
     finally:
         plt.close(figure)
-        if temporary.exists():
-            temporary.unlink()
 
 
 def _sensor_words(result):

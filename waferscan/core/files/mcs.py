@@ -10,12 +10,8 @@ All three are UTF-8 (a BOM is tolerated), with LF or CRLF line ends; ``#`` start
 from __future__ import annotations
 
 import datetime as _dt
-import os
 import re
-import stat
-import tempfile
 from dataclasses import dataclass, replace
-from pathlib import Path
 
 from .. import recipe, schema
 from ..errors import InputError
@@ -23,7 +19,7 @@ from ..rules import SEVERAL_CARRIERS, UNKNOWN_CARRIER, carrier_choice_problem, t
 from ..scan import slow_scan
 from ..sensor import settings as sensor_settings
 from . import validation
-from .text_files import read_text, remove_stale_temporaries
+from .text_files import read_text
 
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
 
@@ -359,59 +355,3 @@ def _pocket_cells(probe):
         return ("", "", "")
     sweep = probe.sweep or (None, None)
     return (_mm(probe.front), *("" if a is None else f"{a:.4f}" for a in sweep))
-
-
-def _mode_for(path):
-    """The permission bits a file written by ``atomic_write_text`` gets: those of the regular
-    file it replaces (not a symlink's), or for a new file what ``open`` would give (0666 less
-    the umask)."""
-    try:
-        st = os.stat(path, follow_symlinks=False)
-        if stat.S_ISREG(st.st_mode):  # not a symlink's 0777
-            return stat.S_IMODE(st.st_mode)
-        raise FileNotFoundError(path)
-    except OSError:
-        umask = os.umask(0o022)
-        os.umask(umask)
-        return 0o666 & ~umask
-
-
-def atomic_write_text(path, text, sync_folder=True, remove_stale=True):
-    """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
-    half of one: write a temporary file beside it, flush it to disk, then rename over.
-    ``sync_folder``: flush the folder too (False: the caller does, as the MCS link does to
-    report a failure of its own)."""
-    path = Path(path)
-    mode = _mode_for(path)
-    # The pid in the name: a writer killed before its rename leaves a file the next writer of
-    # this path removes (remove_stale_temporaries), never one a live writer still uses.
-    if remove_stale:
-        remove_stale_temporaries(path.parent, f".{path.name}.", ".tmp")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".tmp",
-                               dir=path.parent)
-    try:
-        try:
-            os.fchmod(fd, mode)  # mkstemp makes 0600: keep the old file's mode, or the umask's
-        except OSError:
-            pass  # a share without Unix modes (CIFS, vfat): it has none to keep
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    if not sync_folder:
-        return
-    try:
-        dir_fd = os.open(path.parent, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(dir_fd)
-    finally:
-        os.close(dir_fd)

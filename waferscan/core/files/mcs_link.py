@@ -57,7 +57,8 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..scan.calibration import CalibrationError
-from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, atomic_write_text, format_results
+from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, format_results
+from .text_files import atomic_write_text
 
 HISTORY = "history"
 LOCK = ".waferscan.lock"

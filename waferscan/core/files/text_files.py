@@ -6,6 +6,8 @@ from __future__ import annotations
 import errno
 import os
 import stat
+import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import InputError
@@ -107,3 +109,87 @@ def remove_stale_temporaries(folder, prefix, suffix):
             os.unlink(Path(folder) / name)
         except OSError:
             pass
+
+def flush_to_disk(path):
+    """fsync a folder, after a rename in it (one that cannot be opened or flushed, on some
+    shares, is left to the system)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextmanager
+def replacing(path, prefix=None, suffix=".tmp", mode=None, sync_folder=True, remove_stale=True,
+              create=True):
+    """The one way a file is written here, whole or not at all: yields a temporary path beside
+    ``path`` to write (``prefix`` + pid + a random part + ``suffix``; a writer that names the
+    format by the suffix, as matplotlib and FreeCAD do, gets it), and when the block ends
+    without an error flushes it to disk, gives it ``mode`` and renames it over ``path``, so that
+    a reader sees the old file or the new one, never half of one; then flushes the folder
+    (``sync_folder``; False: the caller does). On an error the temporary is removed and ``path``
+    is as it was. The pid in the name: a writer killed before its rename leaves a file the next
+    writer of this path removes (``remove_stale_temporaries``), never one a live writer still
+    uses. ``create`` False: the temporary does not exist yet when yielded (a writer that would
+    keep a backup of a file it finds there)."""
+    path = Path(path)
+    prefix = f".{path.name}." if prefix is None else prefix
+    if remove_stale:
+        remove_stale_temporaries(path.parent, prefix, suffix)
+    fd, tmp = tempfile.mkstemp(prefix=f"{prefix}{os.getpid()}.", suffix=suffix, dir=path.parent)
+    os.close(fd)
+    tmp = Path(tmp)
+    if not create:
+        tmp.unlink()
+    try:
+        yield tmp
+        if mode is not None:
+            try:
+                os.chmod(tmp, mode)
+            except OSError:
+                pass  # a share without Unix modes (CIFS, vfat): it has none to keep
+        # the new file whole on disk before it takes the name (a failure here is the write's)
+        fd = os.open(tmp, os.O_RDONLY | os.O_CLOEXEC)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    if sync_folder:
+        flush_to_disk(path.parent)  # and the rename itself
+
+
+def _mode_for(path):
+    """The permission bits a file written by ``atomic_write_text`` gets: those of the regular
+    file it replaces (not a symlink's), or for a new file what ``open`` would give (0666 less
+    the umask)."""
+    try:
+        st = os.stat(path, follow_symlinks=False)
+        if stat.S_ISREG(st.st_mode):  # not a symlink's 0777
+            return stat.S_IMODE(st.st_mode)
+        raise FileNotFoundError(path)
+    except OSError:
+        umask = os.umask(0o022)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
+def atomic_write_text(path, text, sync_folder=True, remove_stale=True):
+    """Replace ``path`` with ``text`` so that a reader sees the old file or the new one, never
+    half of one (``replacing``).
+    ``sync_folder``: flush the folder too (False: the caller does, as the MCS link does to
+    report a failure of its own)."""
+    path = Path(path)
+    with replacing(path, mode=_mode_for(path), sync_folder=sync_folder,
+                   remove_stale=remove_stale) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
+            handle.write(text)

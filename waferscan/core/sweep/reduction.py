@@ -125,7 +125,7 @@ def _wanted_ranks(count):
 
 class LocalPartitions:
     """Runs a sweep's partitions in this process, one after the other (a sweep's ``runner``;
-    tolerance_study has the Dask one). ``run`` returns handles to the partitions' results, kept
+    waferscan.sweep has the Dask one). ``run`` returns handles to the partitions' results, kept
     where they were computed; ``apply`` calls a function on each and brings back its answers."""
 
     def run(self, function, args, progress=None):

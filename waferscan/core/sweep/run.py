@@ -56,7 +56,7 @@ def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_co
     return the summary dict (summary.json's content). ``plan`` / ``rules``: the recipe
     (default: the layout's own). The blocks are grouped into ``partition_count`` partitions,
     which ``runner`` runs (default: ``LocalPartitions``, here one after another; the Dask
-    runner is tolerance_study's); ``progress(done, total)`` after each. The result depends
+    runner is waferscan.sweep's); ``progress(done, total)`` after each. The result depends
     only on the layout, the tolerances, N and the seed. From a script:
 
         layout = read_scenario("resources/examples/paper.toml")

@@ -1,29 +1,19 @@
-"""``waferscan sweep``: a Monte Carlo tolerance study (SPEC §12) run on Dask, and its outputs.
-
-The numbers come from core/sweep/run.py (numpy only); this module loads the INPUT, runs the
-partitions on a Dask cluster (a ``distributed.LocalCluster`` on this machine's cores by
-default, or an existing scheduler), shows a progress line, and writes summary.json, the CSV
-tables and the PNG plots, each atomically.
-"""
+"""``waferscan sweep`` on Dask: the INPUT loaded, a ``distributed.LocalCluster`` on this
+machine's cores (or an existing scheduler) started or reached, the partitions of
+``waferscan.core.sweep`` run on it with a progress line, and what goes wrong there (a bad
+address, workers that die, a sweep that cannot fit) told in one line."""
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import os
-import shutil
 import signal
-import stat
 import sys
-import tempfile
 import time
 from pathlib import Path
 
-from .core.errors import InputError
-from .core.files.mcs import atomic_write_text
-from .core import sweep
-from .core.sweep.distributions import read_tolerances
+from ..core import sweep
+from ..core.errors import InputError
+from ..core.sweep.distributions import read_tolerances
 
 # Partitions per worker: enough for the progress line to move and the load to even out; the
 # results do not depend on it (core/sweep/run.py).
@@ -55,13 +45,13 @@ def load_layout(path):
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".toml":
-        from .core.files.scenario import read_scenario
+        from ..core.files.scenario import read_scenario
 
         return read_scenario(path)
     if suffix != ".fcstd":
         raise InputError(path, None, "expected a scenario .toml or a FreeCAD layout .FCStd")
-    from .cad.layout_files import opened_layout
-    from .cad.reader import read_layout
+    from ..cad.layout_files import opened_layout
+    from ..cad.reader import read_layout
 
     with opened_layout(path) as doc:
         return read_layout(doc)
@@ -136,7 +126,7 @@ def _python_for_workers():
 
     if Path(sys.executable).name.startswith("python"):
         return
-    from .addon import venv_dir
+    from ..addon import venv_dir
 
     python = Path(venv_dir()) / "bin" / "python"
     if not python.exists():
@@ -236,7 +226,7 @@ class DaskPartitions:
                 from None
 
 
-def run_study(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
+def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
               partition_count=None, rules=None, progress=None):
     """Load, sweep and summarise; returns (summary dict, the margins' histograms: {"thickness" |
     "position": (counts, bin edges)}). ``workers``: the local cluster's worker processes
@@ -397,208 +387,3 @@ def _sweep(layout, tolerances, n, seed, rules, count, client, progress, address=
     except ValueError as exc:
         raise InputError(tolerances.source, None, str(exc)) from None
     return sweep.summarise(base, tolerances, n, seed, tally), tally["histograms"]
-
-
-# --- outputs ---------------------------------------------------------------------------------
-
-def _csv(rows):
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerows(rows)
-    return buffer.getvalue()
-
-
-def confusion_rows(summary):
-    """The confusion matrix as CSV rows: true state down, reported state across."""
-    names = sweep.STATE_KEYS
-    rows = [["true \\ reported", *names]]
-    for true, counts in summary["confusion"].items():
-        rows.append([true, *[counts.get(r, 0) for r in names]])
-    return rows
-
-
-def rate_rows(summary):
-    rows = [["state", "true", "reported", "correct", "miss_rate", "miss_low95", "miss_high95",
-             "false_call_rate", "false_call_low95", "false_call_high95"]]
-    for state, r in summary["rates"].items():
-        rows.append([state, r["true"], r["reported"], r["correct"], r["miss_rate"],
-                     *r["miss_rate_95"], r["false_call_rate"], *r["false_call_rate_95"]])
-    return [[("" if v is None else v) for v in row] for row in rows]
-
-
-def margin_rows(summary):
-    keys = ["count", "min", *[f"p{p}" for p in sweep.PERCENTILES], "max"]
-    rows = [["margin", *keys]]
-    for name, dist in summary["margins"].items():
-        rows.append([name, *(["" for _ in keys] if dist is None else [dist[k] for k in keys])])
-    return rows
-
-
-def _atomic_png(figure, path):
-    """Save a matplotlib figure to ``path`` atomically (a temporary file, then a rename)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".png", dir=path.parent)
-    os.close(fd)
-    try:
-        figure.savefig(tmp, dpi=100)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-
-
-OUTPUT_NAMES = ("summary.json", "confusion.csv", "rates.csv", "margins.csv", "confusion.png",
-                "margins.png")
-
-
-def output_folder(folder):
-    """Check the sweep's output folder before the sweep, so that a path that cannot be one is
-    refused before the work, not after it (InputError): a new path in a folder that can be
-    written in, or a folder holding nothing but a sweep's outputs (it is replaced as a whole).
-    Nothing is made yet."""
-    folder = Path(folder)
-    try:
-        st = os.stat(folder, follow_symlinks=False)
-    except FileNotFoundError:
-        parent = folder.parent
-        if not parent.is_dir():
-            raise InputError(folder, None, f"cannot make the folder: no folder {parent}") \
-                from None
-        if not os.access(parent, os.W_OK | os.X_OK):
-            raise InputError(folder, None, f"cannot make the folder: cannot write in {parent}")
-        return folder
-    except OSError as exc:
-        raise InputError(folder, None, f"cannot make the folder: {exc.strerror}") from None
-    if not stat.S_ISDIR(st.st_mode):
-        raise InputError(folder, None, "cannot make the folder: File exists")
-    others = sorted(set(os.listdir(folder)) - set(OUTPUT_NAMES))
-    if others:
-        raise InputError(folder, None, f"holds other files than a sweep's ({others[0]!r}"
-                                       f"{' …' if len(others) > 1 else ''}): --out is replaced "
-                                       "as a whole; name a new folder")
-    if not os.access(folder.parent, os.W_OK | os.X_OK):
-        raise InputError(folder, None, f"cannot replace it: cannot write in {folder.parent}")
-    return folder
-
-
-def write_outputs(summary, folder, histograms=None):
-    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png as
-    one set: written in a temporary folder beside ``folder``, then renamed into place (an
-    earlier sweep's set there is replaced as a whole: never one file from each). Returns the
-    paths written; InputError (nothing at ``folder`` changed) when they cannot be."""
-    folder = output_folder(folder)
-    temporary = folder.with_name(f".{folder.name}.{os.getpid()}.tmp")
-    old = folder.with_name(f".{folder.name}.{os.getpid()}.old")
-    files = {
-        "summary.json": json.dumps(summary, indent=2) + "\n",
-        "confusion.csv": _csv(confusion_rows(summary)),
-        "rates.csv": _csv(rate_rows(summary)),
-        "margins.csv": _csv(margin_rows(summary)),
-    }
-    try:
-        shutil.rmtree(temporary, ignore_errors=True)
-        os.mkdir(temporary)
-        for name, text in files.items():
-            atomic_write_text(temporary / name, text)
-        plot_summary(summary, temporary, histograms)
-        if folder.exists():
-            os.rename(folder, old)
-            try:
-                os.rename(temporary, folder)
-            except OSError:
-                os.rename(old, folder)  # put the earlier set back
-                raise
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.rename(temporary, folder)
-    except OSError as exc:
-        raise InputError(folder, None, f"cannot write: {exc.strerror}; nothing written "
-                                       "(the summary is on the standard output)") from None
-    finally:
-        shutil.rmtree(temporary, ignore_errors=True)
-    return [folder / name for name in OUTPUT_NAMES]
-
-
-def plot_summary(summary, folder, histograms=None):
-    """confusion.png (counts, true state down, reported across) and margins.png (histograms of
-    the thickness and position margins of the truly present wafers, when ``histograms`` gives
-    them as (counts, bin edges): the sweep's tally's; else their percentiles)."""
-    import warnings
-
-    import matplotlib
-    import numpy as np
-
-    matplotlib.use("Agg")
-    with warnings.catch_warnings():
-        # Debian's mpl_toolkits beside PyPI's matplotlib: only 3D plots suffer, none here.
-        warnings.simplefilter("ignore", UserWarning)
-        import matplotlib.pyplot as plt
-
-    names = sweep.STATE_KEYS
-    true_names = list(summary["confusion"])
-    matrix = np.array([[summary["confusion"][t].get(r, 0) for r in names] for t in true_names])
-    fig, ax = plt.subplots(figsize=(9, 5))
-    ax.imshow(np.log10(matrix + 1), cmap="Blues")
-    ax.set_xticks(range(len(names)), names, rotation=35, ha="right")
-    ax.set_yticks(range(len(true_names)), true_names)
-    ax.set_xlabel("reported state")
-    ax.set_ylabel("true state")
-    for i in range(len(true_names)):
-        for j in range(len(names)):
-            if matrix[i, j]:
-                ax.text(j, i, f"{matrix[i, j]:,}", ha="center", va="center", fontsize=8)
-    ax.set_title(f"Confusion of {summary['n']:,} layouts (seed {summary['seed']})")
-    fig.tight_layout()
-    out = [folder / "confusion.png"]
-    _atomic_png(fig, out[0])
-    plt.close(fig)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    for ax, key in zip(axes, ("thickness", "position")):
-        hist = None if histograms is None else histograms.get(key)
-        dist = summary["margins"].get(key)
-        if hist is not None:
-            ax.stairs(hist[0], hist[1], fill=True, color="tab:blue")
-        elif dist:
-            keys = ["min", *[f"p{p}" for p in sweep.PERCENTILES], "max"]
-            ax.plot([dist[k] for k in keys], range(len(keys)), "o-")
-            ax.set_yticks(range(len(keys)), keys)
-        ax.axvline(0.0, color="tab:red", lw=1)
-        ax.set_xlabel(f"{key} margin to the recipe's window (mm)")
-        ax.set_title(f"{key}: worst {dist['min']:.4f} mm" if dist else f"{key}: no present wafer")
-    fig.tight_layout()
-    out.append(folder / "margins.png")
-    _atomic_png(fig, out[1])
-    plt.close(fig)
-    return out
-
-
-def format_summary(summary):
-    """A short text report: the confusion matrix, the rates and the margins."""
-    names = sweep.STATE_KEYS
-    lines = [f"{summary['n']:,} layouts, seed {summary['seed']}, rules {summary['rules']}",
-             "", "confusion (true down, reported across):",
-             "  " + f"{'true':>14} " + " ".join(f"{n[:10]:>10}" for n in names)]
-    for true, counts in summary["confusion"].items():
-        lines.append("  " + f"{true:>14} " + " ".join(f"{counts.get(r, 0):>10,}"
-                                                      for r in names))
-    lines += ["", "per state: miss rate [95 %], false-call rate [95 %] (intervals over the layouts)"]
-    for state, r in summary["rates"].items():
-        def pct(v, ci):
-            if v is None:
-                return "      -"
-            return f"{100 * v:6.2f} % [{100 * ci[0]:.2f}, {100 * ci[1]:.2f}]"
-        lines.append(f"  {state:>14}: miss {pct(r['miss_rate'], r['miss_rate_95'])}, "
-                     f"false call {pct(r['false_call_rate'], r['false_call_rate_95'])}")
-    for key, dist in summary["margins"].items():
-        if dist:
-            lines.append(f"{key} margin (mm): min {dist['min']:.4f}, p1 {dist['p1']:.4f}, "
-                         f"median {dist['p50']:.4f}")
-    if summary.get("suggested"):
-        s = summary["suggested"]
-        lines.append(f"safer windows: thickness {s['thickness_min']:.4f} to "
-                     f"{s['thickness_max']:.4f} mm, position -{s['position_below']:.4f} / "
-                     f"+{s['position_above']:.4f} mm, threshold_on {s['threshold_on']:g}")
-    return "\n".join(lines)
