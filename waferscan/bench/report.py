@@ -1,0 +1,79 @@
+"""The whole run of `waferscan bench`: every workload in its order, the report it builds (a
+JSON-able dict) and the table line of each result row.
+
+Exports ``run_bench`` and ``format_row``."""
+
+from __future__ import annotations
+
+import subprocess
+import tempfile
+
+from .animation import gui_animation
+from .mcs_link import bench_mcs
+from .processes import bench_processes, bench_startup, saved_layout
+from .targets import contract_entries
+from .workloads import (bench_fab, bench_paper, bench_spot, bench_steps, bench_sweep,
+                        bench_wafers, paper_layout, vector_peak_memory)
+
+__all__ = ["run_bench", "format_row"]
+
+
+def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, only=None):
+    """Every workload; returns the report (a JSON-able dict): ``results`` (rows), ``ratios``,
+    ``memory``, ``mcs``, ``gui_animation`` and ``contract``."""
+    rows = []
+
+    def add(entry):
+        rows.append(entry)
+        progress(entry)
+
+    rounds = 3 if quick else 9
+    paper = paper_layout(scenario_path)
+    report = {"quick": quick, "results": rows}
+    if only == "sweep":  # `waferscan bench --only sweep`: the sweeps' figures alone
+        report["sweep"] = bench_sweep(paper, rounds, add, quick)
+        report["contract"] = contract_entries(report, only="sweep")
+        return report
+    report["ratios"] = bench_paper(scenario_path, rounds, add)
+    report["spot"] = bench_spot(paper, rounds, add)
+    report["ratios"]["brep/analytic scan_layout on fab"] = bench_fab(
+        paper, 1 if quick else 3, add, brep_every=100 if quick else 1)
+    report["memory"] = {"vector_fab_peak_bytes": vector_peak_memory(paper)}
+    bench_steps(paper, (1_000, 10_000, 100_000) if quick else
+                (1_000, 10_000, 100_000, 1_000_000), 1 if quick else 3, add)
+    foups = (4, 40, 400) if quick else (4, 12, 40, 120, 400)
+    bench_wafers(paper, foups, 3 if quick else 5, 1_000 if quick else 10_000, add)
+    with tempfile.TemporaryDirectory() as folder:
+        bench_processes(folder, (4, 40) if quick else (4, 40, 400), add)
+        layout_path = saved_layout(scenario_path, folder)
+        bench_startup(layout_path, paper, 3 if quick else 7, add)
+        # A measure that fails (a watcher that stops answering, a GUI that does not start) is
+        # reported as failed, with the other figures kept.
+        report["mcs"] = report["gui_animation"] = None
+        try:
+            if mcs:
+                report["mcs"] = bench_mcs(layout_path, quick, (10, 100_000) if quick else
+                                          (10, 1_000, 10_000, 100_000), add)
+        except (RuntimeError, OSError, subprocess.SubprocessError) as exc:
+            report["mcs_error"] = str(exc)
+        try:
+            if gui:
+                report["gui_animation"] = gui_animation(layout_path)
+        except (RuntimeError, OSError, ValueError, subprocess.SubprocessError) as exc:
+            report["gui_error"] = str(exc)
+    report["sweep"] = bench_sweep(paper, rounds, add, quick)
+    report["contract"] = contract_entries(report)
+    return report
+
+
+def format_row(r):
+    """One line of the bench's table."""
+    if r["workload"] == "mcs":
+        return (f"{r['workload']:<9} {r['engine']:<32} {r['history']:>9,} lines "
+                f"{r['seconds'] * 1000:>10.3f} ms/s")
+    if r["workload"] == "sweep":
+        return (f"{r['workload']:<9} {r['engine']:<32} {r['layouts']:>9,} layouts "
+                f"{r['seconds']:>9.3f} s {r['layouts_per_minute']:>12,.0f} layouts/min")
+    mark = f"  (sampled: {r['sampled_steps']:,} positions)" if r["sampled_steps"] else ""
+    return (f"{r['workload']:<9} {r['engine']:<32} {r['steps']:>9,} steps "
+            f"{r['wafers']:>6,} wafers {r['seconds']:>11.6f} s{mark}")
