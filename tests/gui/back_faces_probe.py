@@ -67,7 +67,7 @@ def begin():
     import Part
 
     from waferscan.cad.document_scan import scan_document
-    from waferscan.gui import commands
+    from waferscan.gui.playback import play_scan
 
     doc = App.openDocument(os.environ["WAFERSCAN_GUI_LAYOUT"])
     far = App.Vector(-2000, 0, 0)
@@ -89,7 +89,7 @@ def begin():
     state["doc"] = doc
     state["before"] = {o.Name: hints_of(o) for o in doc.Objects if o.ViewObject is not None}
     result["culled_before"] = culled(doc)
-    animation = commands.play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
+    animation = play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
                                    show_results=False, panel=True)
     state["animation"] = animation
     view = Gui.getDocument(doc.Name).ActiveView

@@ -12,9 +12,9 @@ import FreeCADGui as Gui  # noqa: E402
 
 
 def messages():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     from waferscan.gui.qt import alive
-    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
+    shown = [m for m in session.message_boxes if alive(m) and m.isVisible()]
     texts = [box.text() for box in shown]
     for box in shown:
         box.close()
@@ -45,15 +45,15 @@ def begin():
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
     result["no_wafers"] = messages()
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     panel.speed.setValue(panel.speed.minimum())
     wait_for("the scan's end", lambda: panel.animation.ended, done)
 
 
 def done():
-    from waferscan.gui import commands
-    result["no_wafers_code"] = commands.last_result(App.ActiveDocument).code
+    from waferscan.gui.session import last_result
+    result["no_wafers_code"] = last_result(App.ActiveDocument).code
     Gui.Control.closeDialog()
     finish()
 

@@ -45,9 +45,9 @@ def answer_next_question(button_text, log):
 
 def messages():
     """Texts of the (non-blocking) message boxes shown since the last call; they are closed."""
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     from waferscan.gui.qt import alive
-    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
+    shown = [m for m in session.message_boxes if alive(m) and m.isVisible()]
     texts = [box.text() for box in shown]
     for box in shown:
         box.close()
@@ -212,8 +212,8 @@ def begin():
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
     result["carrier_question"] = questions[-1]
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     state["doc"], state["panel"] = doc, panel
     result["merged_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
     panel.animation.pause()
@@ -227,18 +227,18 @@ def play_merged(panel):
 
 
 def merged_done():
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result, session
     doc, panel = state["doc"], state["panel"]
-    result["merged_code"] = commands.last_result(doc).code
+    result["merged_code"] = last_result(doc).code
     result["merged_messages"] = messages()
-    result["merged_range"] = [commands.last_result(doc).layout.scan.start_z,
-                              commands.last_result(doc).layout.scan.final_z]
+    result["merged_range"] = [last_result(doc).layout.scan.start_z,
+                              last_result(doc).layout.scan.final_z]
     Gui.runCommand("WaferScan_Results")  # opens while the panel is open
-    result["results_opened_with_panel"] = [d.windowTitle() for d in commands.session.dialogs]
+    result["results_opened_with_panel"] = [d.windowTitle() for d in session.dialogs]
     Gui.ActiveDocument.ActiveView.viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
     window_shot("gui-own-cell.png", dock_width=264)
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
     doc.saveAs(os.path.join(FOLDER, "merged-cell.FCStd"))
     Gui.Control.closeDialog()
@@ -266,8 +266,8 @@ def link_group():
     colour = tuple(sensor_view(doc).ShapeColor)
     Gui.runCommand("WaferScan_RunScan")
     result["link_errors"] = messages()
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     state["sensor_colour"] = colour
     result["link_running_look"] = look(doc, panel) + [tuple(sensor_view(doc).ShapeColor) == colour]
     state["doc"], state["panel"] = doc, panel
@@ -276,24 +276,24 @@ def link_group():
 
 
 def link_done():
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result, session
     doc = state["doc"]
-    result["link_code"] = commands.last_result(doc).code
+    result["link_code"] = last_result(doc).code
     # The Python console shows the calls the commands made, as a script would make them.
     consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
                 if w.objectName() == "Python console"]
     result["console_calls"] = [line.strip().lstrip(">").strip()
                                for line in consoles[0].toPlainText().splitlines()
                                if "waferscan.gui.commands." in line] if consoles else None
-    result["link_after_look"] = look(doc, commands.session.task_panel) + [
+    result["link_after_look"] = look(doc, session.task_panel) + [
         tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))
     Gui.Control.closeDialog()
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
     # Stopped: the commands stay enabled.
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     panel.speed.setValue(600.0)  # seconds: slow
     panel.stop_button.click()
     result["stopped_status"] = panel.status.text()
@@ -301,10 +301,10 @@ def link_done():
 
 
 def after_stop():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     Gui.runCommand("WaferScan_Results")
-    result["results_after_stop"] = len(commands.session.dialogs)
-    for dialog in commands.session.dialogs:
+    result["results_after_stop"] = len(session.dialogs)
+    for dialog in session.dialogs:
         dialog.close()
     # The MCS link panel, open for hours: the commands stay enabled too.
     Gui.Control.closeDialog()
@@ -316,15 +316,15 @@ def after_stop():
 
 
 def close_mcs():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     Gui.Selection.clearSelection()
     Gui.Control.closeDialog()
     # The document closed while its scan runs: the panel ends and closes, without errors; its
     # results table too.
     Gui.runCommand("WaferScan_Results")
-    state["table"] = commands.session.dialogs[0]
+    state["table"] = session.dialogs[0]
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     panel.speed.setValue(600.0)  # seconds: slow
     state["closing"] = panel
     wait_for("a few frames", lambda: panel.animation.k > 5, close_during_scan)

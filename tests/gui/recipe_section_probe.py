@@ -15,8 +15,8 @@ state = {}
 
 
 def panel():
-    from waferscan.gui import commands
-    return commands.session.task_panel
+    from waferscan.gui.session import session
+    return session.task_panel
 
 
 def settings():

@@ -114,10 +114,10 @@ def new_layout():
     result["existing_after"] = settings_values(existing)
     result["existing_read"] = read_back(existing)
     # A document of its own without ScanSettings (tagged solids, say): Run scan adds one.
-    from waferscan.gui import commands
+    from waferscan.gui.scanning import ensure_settings
     bare = App.getDocument(result["existing_name"])
     bare.removeObject("ScanSettings")
-    commands.ensure_settings(bare)
+    ensure_settings(bare)
     result["added"] = settings_values(bare)
     result["added_read"] = read_back(bare)
     open_preferences("untouched", edit=False, then=refused)

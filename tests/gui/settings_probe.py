@@ -109,8 +109,8 @@ def mcs_without_folder():
     use_schema(0)
     Gui.runCommand("WaferScan_NewPaperLayout")
     Gui.runCommand("WaferScan_McsLink")
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     result["mcs_folder_shown"] = panel.folder.text()
     asked = []
     choose_folder(None, asked)

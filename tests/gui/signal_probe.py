@@ -24,27 +24,29 @@ def colours(widget):
 
 
 def begin():
-    from waferscan.gui import commands
+    from waferscan.gui.playback import run_scan
+    from waferscan.gui.scanning import open_scenario
+    from waferscan.gui.session import session
     Gui.activateWorkbench("WaferScanWorkbench")
-    doc = commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = commands.run_scan(doc, steps_per_frame=200)
-    trace = commands.session.task_panel.trace
+    doc = open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
+    animation = run_scan(doc, steps_per_frame=200)
+    trace = session.task_panel.trace
     animation.moved.connect(lambda k, z: seen.append([z, list(trace.window())]))
     wait_for("the animation's end", lambda: animation.ended, after_animation)
 
 
 def after_animation():
-    from waferscan.gui import commands
-    trace = commands.session.task_panel.trace
+    from waferscan.gui.session import session
+    trace = session.task_panel.trace
     result["live_windows"] = seen
     result["live_cursor"] = trace.cursor
     result["live_samples"] = [list(map(float, a)) for a in trace.samples_in_window()]
-    wait_for("the results dialogs", lambda: len(commands.session.dialogs) == 2, dialogs)
+    wait_for("the results dialogs", lambda: len(session.dialogs) == 2, dialogs)
 
 
 def dialogs():
-    from waferscan.gui import commands
-    _, code = commands.session.dialogs
+    from waferscan.gui.session import session
+    _, code = session.dialogs
     view = code.signal_view
     result["dialog_window"] = list(view.window())
     result["dialog_size"] = [view.width(), view.height()]

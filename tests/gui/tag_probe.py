@@ -76,7 +76,7 @@ def begin():
     Gui.Selection.addSelection(wafers[0])
     Gui.Selection.addSelection(bracket)
     Gui.runCommand("WaferScan_TagWafer")
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     refusals = message_boxes()
     result["refusal"] = refusals[-1] if refusals else None
     result["after_refusal"] = [role(wafers[0]), role(bracket)]
@@ -109,15 +109,15 @@ def begin():
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
     state["doc"] = doc
-    panel = commands.session.task_panel
+    panel = session.task_panel
     result["speed_from_preferences"] = panel.speed.value()
     wait_for("the animation's end", lambda: panel.animation.ended, scanned)
 
 
 def scanned():
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result
     doc = state["doc"]
-    result["code"] = commands.last_result(doc).code
+    result["code"] = last_result(doc).code
     settings = [o for o in doc.Objects if getattr(o, "WaferScanRole", "") == "ScanSettings"][0]
     result["settings"] = [settings.ThicknessTolerance, settings.PositionTolerance.Value,
                           settings.ProtrusionLimit.Value]
@@ -130,9 +130,9 @@ def scanned():
 
 def message_boxes():
     """The texts of the message boxes shown, which are then closed."""
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     from waferscan.gui.qt import alive
-    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
+    shown = [m for m in session.message_boxes if alive(m) and m.isVisible()]
     texts = [box.text() for box in shown]
     for box in shown:
         box.close()
@@ -147,7 +147,7 @@ class ForeignPanel:
 
 
 def edits(doc, settings):
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     # A range typed wrong in the property editor: a message, no traceback, no animation.
     settings.FinalZ = -5.0
     Gui.runCommand("WaferScan_RunScan")
@@ -163,7 +163,7 @@ def edits(doc, settings):
     settings.ZStep = 0.0
     settings.Direction = "down"
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     result["exact_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
     result["exact_first_z"] = None
     panel.animation.moved.connect(
@@ -174,22 +174,22 @@ def edits(doc, settings):
 
 
 def after_exact(doc):
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result, session
     panel = state["exact"]
     result["exact_completed"] = panel.animation.completed
-    result["exact_code"] = commands.last_result(doc).code
+    result["exact_code"] = last_result(doc).code
     Gui.Control.closeDialog()
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
     # A wafer deleted after the scan: the results table and the cross-check see the document
     # as it is now.
     doc.removeObject("Wafer3")
     doc.recompute()
     Gui.runCommand("WaferScan_Results")
-    table = commands.session.dialogs[0]
+    table = session.dialogs[0]
     result["rows_after_delete"] = table.rows()
     Gui.runCommand("WaferScan_CrossCheck")
-    result["crosscheck_after_delete"] = commands.session.dialogs[0].text()
+    result["crosscheck_after_delete"] = session.dialogs[0].text()
     QtGui.QApplication.clipboard().clear()
     finish()
 
