@@ -103,13 +103,13 @@ def paused():
     animation, doc, view = state["animation"], state["doc"], state["view"]
     animation.pause()
     result["culled_during"] = culled(doc)
-    result["wafers"] = sorted(animation.wafers)
+    result["wafers"] = sorted(animation.appearance.wafers)
     result["see_through"] = sorted(view.Object.Name for view, prop, _ in
-                                   animation._restore_view if prop == "Transparency")
-    from waferscan.gui.animation import BackFaces, opaque_closed_solids
+                                   animation.appearance.saved_properties if prop == "Transparency")
+    from waferscan.gui.scan_appearance import BackFaces, opaque_closed_solids
 
     with_culling = screen(view, "back-faces-culled.png")
-    animation.back_faces.restore()
+    animation.appearance.back_faces.restore()
     result["culled_restored"] = culled(doc)
     both_sides = screen(view, "both-sides.png")
     # And close up: the carrier and its wafers filling the view, culled as the animation does.

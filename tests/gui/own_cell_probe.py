@@ -143,10 +143,11 @@ def sensor_view(doc):
 def look(doc, panel):
     """The walls' and wafers' transparency, and whether the beam is drawn over the sensor."""
     by_label = {o.Label: o for o in doc.Objects}
+    overlay = panel.animation.appearance.overlay
     return [{label: by_label[label].ViewObject.Transparency
              for label in ("Base", "Left", "Right", "W1", "W3")},
-            panel.animation.overlay is not None and
-            panel.animation.overlay.node in list(sensor_view(doc).RootNode.getChildren())]
+            overlay is not None and
+            overlay.node in list(sensor_view(doc).RootNode.getChildren())]
 
 
 def begin():

@@ -48,10 +48,10 @@ def paused_on_a_wafer():
     lit = panel.animation.lit
     wafer = App.ActiveDocument.getObjectsByLabel(lit[0])[0]
     result["highlight"] = list(wafer.ViewObject.ShapeColor[:3])
-    result["beam_colour"] = list(panel.animation.beam.ViewObject.LineColor[:3])
+    result["beam_colour"] = list(panel.animation.appearance.beam.ViewObject.LineColor[:3])
     carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
     result["see_through_during"] = [carrier.ViewObject.Transparency,
-                                    panel.animation.beam.ViewObject.LineWidth]
+                                    panel.animation.appearance.beam.ViewObject.LineWidth]
     view = Gui.ActiveDocument.ActiveView
     view.saveImage(artifact("gui-during-scan.png"), 1200, 800, "White")
     window_shot("gui-scan-panel.png")
@@ -74,7 +74,7 @@ def after_animation():
                         frames[-1], panel.animation.frames, panel.animation.duration_s]
     carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
     result["see_through_after"] = [carrier.ViewObject.Transparency,
-                                   panel.animation.beam.ViewObject.LineWidth]
+                                   panel.animation.appearance.beam.ViewObject.LineWidth]
     result["panel_status"] = panel.status.text()
     wait_for("the results dialogs", lambda: len(session.dialogs) == 2, dialogs)
 
