@@ -8,7 +8,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, later, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -41,17 +42,6 @@ def answer_next_question(button_text, log):
         box.reject()
 
     QtCore.QTimer.singleShot(50, click)
-
-
-def messages():
-    """Texts of the (non-blocking) message boxes shown since the last call; they are closed."""
-    from waferscan.gui.session import session
-    from waferscan.gui.qt import alive
-    shown = [m for m in session.message_boxes if alive(m) and m.isVisible()]
-    texts = [box.text() for box in shown]
-    for box in shown:
-        box.close()
-    return texts
 
 
 def record_enabled(key, then, extra=()):
@@ -184,7 +174,7 @@ def begin():
                        "wafer_z": sorted(round(w.Shape.BoundBox.ZMin, 6) for w in wafers),
                        "compound_visible": compound.Visibility,
                        "undo": list(doc.UndoNames)}
-    result["split_message"] = messages()
+    result["split_message"] = message_texts()
     doc.undo()
     result["after_undo"] = [len(doc.Objects), compound.Visibility,
                             [getattr(o, "WaferScanRole", "") for o in doc.Objects]]
@@ -207,7 +197,7 @@ def begin():
     tag([sensor], "WaferScan_TagScanner")
     set_scanner(sensor)
     doc.recompute()
-    result["tag_messages"] = messages()
+    result["tag_messages"] = message_texts()
     # Run scan: two carriers, so it asks which to scan; the base is.
     answer_next_question(base.Label, questions)
     Gui.Selection.clearSelection()
@@ -231,7 +221,7 @@ def merged_done():
     from waferscan.gui.session import last_result, session
     doc, panel = state["doc"], state["panel"]
     result["merged_code"] = last_result(doc).code
-    result["merged_messages"] = messages()
+    result["merged_messages"] = message_texts()
     result["merged_range"] = [last_result(doc).layout.scan.start_z,
                               last_result(doc).layout.scan.final_z]
     Gui.runCommand("WaferScan_Results")  # opens while the panel is open
@@ -258,7 +248,7 @@ def link_group():
     tag([by_label["Sensor"]], "WaferScan_TagScanner")
     set_scanner(by_label["Sensor"])
     doc.recompute()
-    messages()
+    message_texts()
     from waferscan.cad.reader import DocumentScene
     scene = DocumentScene.of(doc)
     result["link_scene"] = {"wafers": [i.path for i in scene.wafers],
@@ -266,7 +256,7 @@ def link_group():
                             "scanners": [i.path for i in scene.scanners]}
     colour = tuple(sensor_view(doc).ShapeColor)
     Gui.runCommand("WaferScan_RunScan")
-    result["link_errors"] = messages()
+    result["link_errors"] = message_texts()
     from waferscan.gui.session import session
     panel = session.task_panel
     state["sensor_colour"] = colour

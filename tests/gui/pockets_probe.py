@@ -7,18 +7,15 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    finish, result, scan_scenario, start, wait_for, window_shot)
 
 import FreeCADGui as Gui  # noqa: E402
 
 
 def begin():
-    from waferscan.gui.playback import run_scan
-    from waferscan.gui.scanning import open_scenario
     from waferscan.gui.session import session
-    Gui.activateWorkbench("WaferScanWorkbench")
-    doc = open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = run_scan(doc, steps_per_frame=500)
+    animation = scan_scenario(steps_per_frame=500)
     wait_for("the pocket animation", lambda: animation.ended
              and session.pocket_animation is not None, pockets)
 

@@ -6,9 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for  # noqa: E402
+from probe_steps import finish, result, scan_scenario, start, wait_for  # noqa: E402
 
-import FreeCADGui as Gui  # noqa: E402
 
 seen = []
 
@@ -24,12 +23,8 @@ def colours(widget):
 
 
 def begin():
-    from waferscan.gui.playback import run_scan
-    from waferscan.gui.scanning import open_scenario
     from waferscan.gui.session import session
-    Gui.activateWorkbench("WaferScanWorkbench")
-    doc = open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = run_scan(doc, steps_per_frame=200)
+    animation = scan_scenario(steps_per_frame=200)
     trace = session.task_panel.trace
     animation.moved.connect(lambda k, z: seen.append([z, list(trace.window())]))
     wait_for("the animation's end", lambda: animation.ended, after_animation)

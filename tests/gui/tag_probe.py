@@ -6,7 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    artifact, finish, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -77,7 +78,7 @@ def begin():
     Gui.Selection.addSelection(bracket)
     Gui.runCommand("WaferScan_TagWafer")
     from waferscan.gui.session import session
-    refusals = message_boxes()
+    refusals = message_texts()
     result["refusal"] = refusals[-1] if refusals else None
     result["after_refusal"] = [role(wafers[0]), role(bracket)]
     result["undo_after_refusal"] = list(doc.UndoNames) == undo_before
@@ -104,7 +105,7 @@ def begin():
     sensor.Receiver = App.Vector(160, 2, 2)
     sensor.Placement.Base = App.Vector(80, 64.6, -2)  # the emitter at Z 0
     doc.recompute()
-    result["tag_messages"] = message_boxes()  # what to set next, for the carrier and scanner
+    result["tag_messages"] = message_texts()  # what to set next, for the carrier and scanner
     result["undo_names"] = list(doc.UndoNames)
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
@@ -128,17 +129,6 @@ def scanned():
     edits(doc, settings)
 
 
-def message_boxes():
-    """The texts of the message boxes shown, which are then closed."""
-    from waferscan.gui.session import session
-    from waferscan.gui.qt import alive
-    shown = [m for m in session.message_boxes if alive(m) and m.isVisible()]
-    texts = [box.text() for box in shown]
-    for box in shown:
-        box.close()
-    return texts
-
-
 class ForeignPanel:
     """Another tool's task panel (as a sketch in edit would be)."""
 
@@ -151,13 +141,13 @@ def edits(doc, settings):
     # A range typed wrong in the property editor: a message, no traceback, no animation.
     settings.FinalZ = -5.0
     Gui.runCommand("WaferScan_RunScan")
-    result["bad_range_messages"] = message_boxes()
+    result["bad_range_messages"] = message_texts()
     result["bad_range_panel"] = bool(Gui.Control.activeDialog())
     settings.FinalZ = 60.0
     # Another tool's task panel is open: ours waits for it.
     Gui.Control.showDialog(ForeignPanel())
     Gui.runCommand("WaferScan_RunScan")
-    result["foreign_messages"] = message_boxes()
+    result["foreign_messages"] = message_texts()
     Gui.Control.closeDialog()
     # Exact edges, scanned downwards: the animation runs top to bottom.
     settings.ZStep = 0.0

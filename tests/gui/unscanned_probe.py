@@ -6,17 +6,11 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for  # noqa: E402
-
-import FreeCADGui as Gui  # noqa: E402
+from probe_steps import finish, result, scan_scenario, start, wait_for  # noqa: E402
 
 
 def begin():
-    from waferscan.gui.playback import run_scan
-    from waferscan.gui.scanning import open_scenario
-    Gui.activateWorkbench("WaferScanWorkbench")
-    doc = open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = run_scan(doc, steps_per_frame=500)
+    animation = scan_scenario(steps_per_frame=500)
     wait_for("the animation's end", lambda: animation.ended, after_animation)
 
 
