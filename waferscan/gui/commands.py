@@ -49,6 +49,9 @@ def _objects_ref(objects):
 
 
 class _Command:
+    """What FreeCAD asks of a command (GetResources, IsActive, Activated); a subclass's ``run``
+    does its work, and a user's mistake it raises (a WaferScanError) is reported, not raised."""
+
     menu, tip, icon = "", "", "WaferScan.svg"
     shows_only = False  # True: usable even while another tool's task panel is open
 
