@@ -67,7 +67,7 @@ def begin():
     import Part
 
     from waferscan.cad.document_scan import scan_document
-    from waferscan.gui import commands
+    from waferscan.gui.playback import play_scan
 
     doc = App.openDocument(os.environ["WAFERSCAN_GUI_LAYOUT"])
     far = App.Vector(-2000, 0, 0)
@@ -89,7 +89,7 @@ def begin():
     state["doc"] = doc
     state["before"] = {o.Name: hints_of(o) for o in doc.Objects if o.ViewObject is not None}
     result["culled_before"] = culled(doc)
-    animation = commands.play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
+    animation = play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
                                    show_results=False, panel=True)
     state["animation"] = animation
     view = Gui.getDocument(doc.Name).ActiveView
@@ -103,13 +103,13 @@ def paused():
     animation, doc, view = state["animation"], state["doc"], state["view"]
     animation.pause()
     result["culled_during"] = culled(doc)
-    result["wafers"] = sorted(animation.wafers)
+    result["wafers"] = sorted(animation.appearance.wafers)
     result["see_through"] = sorted(view.Object.Name for view, prop, _ in
-                                   animation._restore_view if prop == "Transparency")
-    from waferscan.gui.animation import BackFaces, opaque_closed_solids
+                                   animation.appearance.saved_properties if prop == "Transparency")
+    from waferscan.gui.scan_appearance import BackFaces, opaque_closed_solids
 
     with_culling = screen(view, "back-faces-culled.png")
-    animation.back_faces.restore()
+    animation.appearance.back_faces.restore()
     result["culled_restored"] = culled(doc)
     both_sides = screen(view, "both-sides.png")
     # And close up: the carrier and its wafers filling the view, culled as the animation does.

@@ -15,15 +15,16 @@ from PySide import QtGui  # noqa: E402
 
 def begin():
     Gui.activateWorkbench("WaferScanWorkbench")
-    from waferscan.gui import commands
+    from waferscan.gui.scanning import open_scenario
+    from waferscan.gui.session import session
     from waferscan.gui.calibration_view import table_contents
 
-    commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
+    open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
     Gui.updateGui()
     result["document"] = App.ActiveDocument.Name
     Gui.runCommand("WaferScan_Calibrate")
     Gui.updateGui()
-    dialog = commands.session.dialogs[0]
+    dialog = session.dialogs[0]
     result["title"] = dialog.windowTitle()
     result["visible"] = dialog.isVisible()
     result["table"] = table_contents(dialog)
@@ -34,7 +35,7 @@ def begin():
     Gui.updateGui()
     Gui.runCommand("WaferScan_Calibrate")
     Gui.updateGui()
-    boxes = [b for b in commands.session.message_boxes if b.isVisible()]
+    boxes = [b for b in session.message_boxes if b.isVisible()]
     result["error_boxes"] = [b.text() for b in boxes]
     finish()
 

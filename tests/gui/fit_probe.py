@@ -58,9 +58,10 @@ def begin():
     doc = App.ActiveDocument
     doc.saveAs(os.path.join(FOLDER, "paper-fit.FCStd"))
     state["doc"] = doc
-    from waferscan.gui import commands
-    commands.run_scan(doc, duration_s=30.0)
-    panel = commands.session.task_panel
+    from waferscan.gui.playback import run_scan
+    from waferscan.gui.session import session
+    run_scan(doc, duration_s=30.0)
+    panel = session.task_panel
     state["panel"] = panel
     result["combo_width"] = combo_view()
     wait_for("a few frames", lambda: panel.animation.k > 50, scan_panel_fits)
@@ -88,8 +89,8 @@ def scan_panel_fits():
 
 
 def replayed():
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     result["replay_new_panel"] = panel is not state["panel"]
     result["replay_seconds"] = panel.animation.duration_s
     panel.speed.setValue(1.0)  # the rest of the scan in a second
@@ -99,10 +100,11 @@ def replayed():
 
 
 def dialogs():
-    from waferscan.gui import commands
+    from waferscan.gui.playback import run_scan
+    from waferscan.gui.session import session
     panel = state["panel"]
     result["replay_completed"] = panel.animation.completed
-    table, code = commands.session.dialogs
+    table, code = session.dialogs
     Gui.updateGui()
     screen = QtGui.QApplication.desktop().availableGeometry(Gui.getMainWindow())
     result["dialog_sizes"] = {d.windowTitle(): [d.width(), d.height()] for d in (table, code)}
@@ -127,25 +129,26 @@ def dialogs():
     result["export_start"] = asked
     # A second scan of the same document: its dialogs replace the first ones, in place.
     state["first_geometry"] = [table.x(), table.y(), table.width(), table.height()]
-    commands.run_scan(state["doc"], duration_s=0.5)
-    panel = commands.session.task_panel
+    run_scan(state["doc"], duration_s=0.5)
+    panel = session.task_panel
     wait_for("the second scan's end", lambda: panel.animation.ended, lambda: later(second, 300))
 
 
 def second():
-    from waferscan.gui import commands
+    from waferscan.gui.dialogs import cross_check
+    from waferscan.gui.session import session
     from waferscan.gui.qt import alive
     shown = [w for w in QtGui.QApplication.topLevelWidgets()
              if isinstance(w, QtGui.QDialog) and alive(w) and w.isVisible()
              and w.windowTitle().startswith("WaferScan")]
     result["dialogs_after_second_scan"] = sorted(w.windowTitle() for w in shown)
-    table = commands.session.dialogs[0]
+    table = session.dialogs[0]
     result["second_geometry"] = [table.x(), table.y(), table.width(), table.height()]
     result["first_geometry"] = state["first_geometry"]
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
-    check = commands.cross_check(state["doc"])
-    box = commands.session.dialogs[0]
+    check = cross_check(state["doc"])
+    box = session.dialogs[0]
     details = box.findChildren(QtGui.QTextEdit)
     result["crosscheck"] = [check.ok, box.windowTitle(),
                             bool(details) and QtGui.QFontInfo(details[0].font()).fixedPitch()]
@@ -155,9 +158,9 @@ def second():
 
 
 def mcs_panel():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     Gui.runCommand("WaferScan_McsLink")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     panel.set_folder(FOLDER)
     with open(os.path.join(FOLDER, "commands.txt"), "w", encoding="utf-8") as handle:
         handle.write("1 SCF\n2 FROB\n")

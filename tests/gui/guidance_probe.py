@@ -5,20 +5,10 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for  # noqa: E402
+from probe_steps import finish, message_texts, result, start, wait_for  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-
-
-def messages():
-    from waferscan.gui import commands
-    from waferscan.gui.qt import alive
-    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
-    texts = [box.text() for box in shown]
-    for box in shown:
-        box.close()
-    return texts
 
 
 def begin():
@@ -30,30 +20,30 @@ def begin():
     sensor.Length, sensor.Width, sensor.Height = 160, 4, 4
     doc.recompute()
     Gui.runCommand("WaferScan_RunScan")
-    result["untagged"] = messages()
+    result["untagged"] = message_texts()
     result["untagged_panel"] = bool(Gui.Control.activeDialog())
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(box)
     Gui.runCommand("WaferScan_TagCarrier")
-    messages()
+    message_texts()
     Gui.runCommand("WaferScan_RunScan")
-    result["no_scanner"] = messages()
+    result["no_scanner"] = message_texts()
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(sensor)
     Gui.runCommand("WaferScan_TagScanner")
-    messages()
+    message_texts()
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
-    result["no_wafers"] = messages()
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    result["no_wafers"] = message_texts()
+    from waferscan.gui.session import session
+    panel = session.task_panel
     panel.speed.setValue(panel.speed.minimum())
     wait_for("the scan's end", lambda: panel.animation.ended, done)
 
 
 def done():
-    from waferscan.gui import commands
-    result["no_wafers_code"] = commands.last_result(App.ActiveDocument).code
+    from waferscan.gui.session import last_result
+    result["no_wafers_code"] = last_result(App.ActiveDocument).code
     Gui.Control.closeDialog()
     finish()
 

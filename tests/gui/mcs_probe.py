@@ -21,8 +21,8 @@ def begin():
     Gui.activateWorkbench("WaferScanWorkbench")
     Gui.runCommand("WaferScan_NewPaperLayout")
     Gui.runCommand("WaferScan_McsLink")
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     state["panel"] = panel
     result["panel_shown"] = Gui.Control.activeDialog()
     result["folder_from_preferences"] = panel.folder.text()
@@ -95,8 +95,8 @@ def after_stop():
     result["panel_closed"] = not Gui.Control.activeDialog()
     # One task panel at a time: a scan started while the link watches ends the watching.
     Gui.runCommand("WaferScan_McsLink")
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     second = FOLDER / "second"
     second.mkdir()
     panel.set_folder(str(second))
@@ -112,7 +112,7 @@ def after_stop():
     result["watching_before_scan"] = panel.start()
     Gui.runCommand("WaferScan_RunScan")
     result["watching_after_scan"] = panel.watching
-    commands.session.task_panel.reject()
+    session.task_panel.reject()
     finish()
 
 

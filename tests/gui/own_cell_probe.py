@@ -8,7 +8,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, later, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -41,17 +42,6 @@ def answer_next_question(button_text, log):
         box.reject()
 
     QtCore.QTimer.singleShot(50, click)
-
-
-def messages():
-    """Texts of the (non-blocking) message boxes shown since the last call; they are closed."""
-    from waferscan.gui import commands
-    from waferscan.gui.qt import alive
-    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
-    texts = [box.text() for box in shown]
-    for box in shown:
-        box.close()
-    return texts
 
 
 def record_enabled(key, then, extra=()):
@@ -143,10 +133,11 @@ def sensor_view(doc):
 def look(doc, panel):
     """The walls' and wafers' transparency, and whether the beam is drawn over the sensor."""
     by_label = {o.Label: o for o in doc.Objects}
+    overlay = panel.animation.appearance.overlay
     return [{label: by_label[label].ViewObject.Transparency
              for label in ("Base", "Left", "Right", "W1", "W3")},
-            panel.animation.overlay is not None and
-            panel.animation.overlay.node in list(sensor_view(doc).RootNode.getChildren())]
+            overlay is not None and
+            overlay.node in list(sensor_view(doc).RootNode.getChildren())]
 
 
 def begin():
@@ -183,7 +174,7 @@ def begin():
                        "wafer_z": sorted(round(w.Shape.BoundBox.ZMin, 6) for w in wafers),
                        "compound_visible": compound.Visibility,
                        "undo": list(doc.UndoNames)}
-    result["split_message"] = messages()
+    result["split_message"] = message_texts()
     doc.undo()
     result["after_undo"] = [len(doc.Objects), compound.Visibility,
                             [getattr(o, "WaferScanRole", "") for o in doc.Objects]]
@@ -206,14 +197,14 @@ def begin():
     tag([sensor], "WaferScan_TagScanner")
     set_scanner(sensor)
     doc.recompute()
-    result["tag_messages"] = messages()
+    result["tag_messages"] = message_texts()
     # Run scan: two carriers, so it asks which to scan; the base is.
     answer_next_question(base.Label, questions)
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
     result["carrier_question"] = questions[-1]
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     state["doc"], state["panel"] = doc, panel
     result["merged_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
     panel.animation.pause()
@@ -227,18 +218,18 @@ def play_merged(panel):
 
 
 def merged_done():
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result, session
     doc, panel = state["doc"], state["panel"]
-    result["merged_code"] = commands.last_result(doc).code
-    result["merged_messages"] = messages()
-    result["merged_range"] = [commands.last_result(doc).layout.scan.start_z,
-                              commands.last_result(doc).layout.scan.final_z]
+    result["merged_code"] = last_result(doc).code
+    result["merged_messages"] = message_texts()
+    result["merged_range"] = [last_result(doc).layout.scan.start_z,
+                              last_result(doc).layout.scan.final_z]
     Gui.runCommand("WaferScan_Results")  # opens while the panel is open
-    result["results_opened_with_panel"] = [d.windowTitle() for d in commands.session.dialogs]
+    result["results_opened_with_panel"] = [d.windowTitle() for d in session.dialogs]
     Gui.ActiveDocument.ActiveView.viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
     window_shot("gui-own-cell.png", dock_width=264)
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
     doc.saveAs(os.path.join(FOLDER, "merged-cell.FCStd"))
     Gui.Control.closeDialog()
@@ -257,7 +248,7 @@ def link_group():
     tag([by_label["Sensor"]], "WaferScan_TagScanner")
     set_scanner(by_label["Sensor"])
     doc.recompute()
-    messages()
+    message_texts()
     from waferscan.cad.reader import DocumentScene
     scene = DocumentScene.of(doc)
     result["link_scene"] = {"wafers": [i.path for i in scene.wafers],
@@ -265,9 +256,9 @@ def link_group():
                             "scanners": [i.path for i in scene.scanners]}
     colour = tuple(sensor_view(doc).ShapeColor)
     Gui.runCommand("WaferScan_RunScan")
-    result["link_errors"] = messages()
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    result["link_errors"] = message_texts()
+    from waferscan.gui.session import session
+    panel = session.task_panel
     state["sensor_colour"] = colour
     result["link_running_look"] = look(doc, panel) + [tuple(sensor_view(doc).ShapeColor) == colour]
     state["doc"], state["panel"] = doc, panel
@@ -276,24 +267,24 @@ def link_group():
 
 
 def link_done():
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result, session
     doc = state["doc"]
-    result["link_code"] = commands.last_result(doc).code
+    result["link_code"] = last_result(doc).code
     # The Python console shows the calls the commands made, as a script would make them.
     consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
                 if w.objectName() == "Python console"]
     result["console_calls"] = [line.strip().lstrip(">").strip()
                                for line in consoles[0].toPlainText().splitlines()
                                if "waferscan.gui.commands." in line] if consoles else None
-    result["link_after_look"] = look(doc, commands.session.task_panel) + [
+    result["link_after_look"] = look(doc, session.task_panel) + [
         tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))
     Gui.Control.closeDialog()
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
     # Stopped: the commands stay enabled.
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     panel.speed.setValue(600.0)  # seconds: slow
     panel.stop_button.click()
     result["stopped_status"] = panel.status.text()
@@ -301,10 +292,10 @@ def link_done():
 
 
 def after_stop():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     Gui.runCommand("WaferScan_Results")
-    result["results_after_stop"] = len(commands.session.dialogs)
-    for dialog in commands.session.dialogs:
+    result["results_after_stop"] = len(session.dialogs)
+    for dialog in session.dialogs:
         dialog.close()
     # The MCS link panel, open for hours: the commands stay enabled too.
     Gui.Control.closeDialog()
@@ -316,15 +307,15 @@ def after_stop():
 
 
 def close_mcs():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     Gui.Selection.clearSelection()
     Gui.Control.closeDialog()
     # The document closed while its scan runs: the panel ends and closes, without errors; its
     # results table too.
     Gui.runCommand("WaferScan_Results")
-    state["table"] = commands.session.dialogs[0]
+    state["table"] = session.dialogs[0]
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     panel.speed.setValue(600.0)  # seconds: slow
     state["closing"] = panel
     wait_for("a few frames", lambda: panel.animation.k > 5, close_during_scan)

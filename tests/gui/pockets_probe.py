@@ -7,29 +7,28 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    finish, result, scan_scenario, start, wait_for, window_shot)
 
 import FreeCADGui as Gui  # noqa: E402
 
 
 def begin():
-    from waferscan.gui import commands
-    Gui.activateWorkbench("WaferScanWorkbench")
-    doc = commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = commands.run_scan(doc, steps_per_frame=500)
+    from waferscan.gui.session import session
+    animation = scan_scenario(steps_per_frame=500)
     wait_for("the pocket animation", lambda: animation.ended
-             and commands.session.pocket_animation is not None, pockets)
+             and session.pocket_animation is not None, pockets)
 
 
 def _read(pockets, index):
     from waferscan.cad.reader import beam_from
     from waferscan.cad.reader import DocumentScene
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
 
     pockets.show(index)
     pockets.moved.emit(index)
     Gui.updateGui()
-    panel = commands.session.task_panel
+    panel = session.task_panel
     beam = beam_from(DocumentScene.of(pockets.doc).scanner())
     links = {o.RobotLink: list(o.Placement.Base) for o in pockets.doc.Objects
              if "RobotLink" in o.PropertiesList}
@@ -40,11 +39,11 @@ def _read(pockets, index):
 
 
 def pockets():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     from waferscan.gui.pocket_animation import frame_of
-    animation = commands.session.pocket_animation
+    animation = session.pocket_animation
     animation.timer.stop()  # held: frames shown one by one below
-    result["panel_title"] = commands.session.task_panel.form.windowTitle()
+    result["panel_title"] = session.task_panel.form.windowTitle()
     result["start"] = _read(animation, 0)
     result["jab"] = _read(animation, frame_of(animation, 8, "jab", 1.0))
     window_shot("gui-jab.png")
@@ -52,13 +51,13 @@ def pockets():
     animation.k = len(animation.frames) - 1
     animation.play()
     wait_for("the results dialogs", lambda: animation.ended
-             and len(commands.session.dialogs) == 2, dialogs)
+             and len(session.dialogs) == 2, dialogs)
 
 
 def dialogs():
-    from waferscan.gui import commands
-    result["panel_status"] = commands.session.task_panel.status.text()
-    table, code = commands.session.dialogs
+    from waferscan.gui.session import session
+    result["panel_status"] = session.task_panel.status.text()
+    table, code = session.dialogs
     result["code"] = code.code_label.text()
     result["headers"] = [table.table.horizontalHeaderItem(c).text()
                          for c in range(table.table.columnCount())]

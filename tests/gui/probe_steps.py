@@ -107,3 +107,93 @@ def window_shot(name, dock_width=400):
         os.remove(rendered)
     result.setdefault("view_found", bool(views))
     shot.save(artifact(name))
+
+
+# --- steps several probes take as a user would ---------------------------------------------
+
+def task_panel():
+    """The workbench's task panel shown last."""
+    from waferscan.gui.session import session
+
+    return session.task_panel
+
+
+def message_texts():
+    """The texts of the (non-blocking) message boxes shown since the last call; they are
+    closed."""
+    from waferscan.gui.qt import alive
+    from waferscan.gui.session import session
+
+    shown = [m for m in session.message_boxes if alive(m) and m.isVisible()]
+    texts = [box.text() for box in shown]
+    for box in shown:
+        box.close()
+    return texts
+
+
+def accept_preferences(on_page):
+    """Open the preferences with the workbench's command; on the WaferScan page call
+    ``on_page(dialog)`` (to read or type its fields), then click OK. Returns once the dialog
+    is closed (it is modal)."""
+    import FreeCADGui as Gui
+
+    def on_dialog():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if dialog is None:
+            QtCore.QTimer.singleShot(50, on_dialog)
+            return
+        for tree in dialog.findChildren(QtGui.QListWidget):
+            for i in range(tree.count()):
+                if tree.item(i).text() == "WaferScan":
+                    tree.setCurrentRow(i)
+        QtGui.QApplication.processEvents()
+        on_page(dialog)
+        ok = [b for b in dialog.findChildren(QtGui.QPushButton)
+              if b.text().replace("&", "") == "OK"]
+        ok[0].click()
+
+    QtCore.QTimer.singleShot(100, on_dialog)
+    Gui.runCommand("WaferScan_Preferences")  # modal: returns once OK was clicked
+
+
+def scan_paper_layout():
+    """The paper's layout built and scanned with the workbench's commands; returns the scan's
+    task panel (its animation playing)."""
+    import FreeCADGui as Gui
+
+    Gui.activateWorkbench("WaferScanWorkbench")
+    Gui.runCommand("WaferScan_NewPaperLayout")
+    Gui.updateGui()
+    Gui.runCommand("WaferScan_RunScan")
+    return task_panel()
+
+
+def scan_scenario(steps_per_frame):
+    """The scenario file named by WAFERSCAN_GUI_SCENARIO built into a document and scanned as
+    Run scan does, ``steps_per_frame`` scan positions a frame; returns the animation (playing)."""
+    import FreeCADGui as Gui
+
+    from waferscan.gui.playback import run_scan
+    from waferscan.gui.scanning import open_scenario
+
+    Gui.activateWorkbench("WaferScanWorkbench")
+    doc = open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
+    return run_scan(doc, steps_per_frame=steps_per_frame)
+
+
+def open_section(section):
+    """Click a scan panel section's header open; returns whether its body shows."""
+    import FreeCADGui as Gui
+
+    section.toggle.click()
+    Gui.updateGui()
+    return section.body.isVisible()
+
+
+def replay(what, then, until_ended=True):
+    """Click the scan panel's Replay; ``then`` once the new panel is there (and, with
+    ``until_ended``, its animation has ended)."""
+    old = task_panel()
+    old.replay_button.click()
+    wait_for(what, lambda: task_panel() is not old and
+             (not until_ended or task_panel().animation.ended), then)

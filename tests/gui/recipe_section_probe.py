@@ -6,17 +6,12 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    finish, open_section, replay, result, scan_paper_layout, start, task_panel, wait_for,
+    window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-
-state = {}
-
-
-def panel():
-    from waferscan.gui import commands
-    return commands.session.task_panel
 
 
 def settings():
@@ -24,11 +19,7 @@ def settings():
 
 
 def begin():
-    Gui.activateWorkbench("WaferScanWorkbench")
-    Gui.runCommand("WaferScan_NewPaperLayout")
-    Gui.updateGui()
-    Gui.runCommand("WaferScan_RunScan")
-    first = panel()
+    first = scan_paper_layout()
     first.speed.setValue(1.0)
     section = first.recipe_section
     result["first_code"] = first.animation.result.code
@@ -40,10 +31,8 @@ def begin():
 
 
 def edit_recipe():
-    section = panel().recipe_section
-    section.toggle.click()
-    Gui.updateGui()
-    result["expanded_visible"] = section.body.isVisible()
+    section = task_panel().recipe_section
+    result["expanded_visible"] = open_section(section)
     undo_before = App.ActiveDocument.UndoCount
     section.fields["ThicknessMin"].setText("0.9")
     section.fields["ThicknessMax"].setText("0.8")
@@ -60,18 +49,15 @@ def edit_recipe():
                             App.ActiveDocument.UndoCount - undo_before,
                             App.ActiveDocument.UndoNames[0]]
     window_shot("gui-scan-panel-recipe.png")
-    state["old"] = panel()
-    panel().replay_button.click()
-    wait_for("the replay with the recipe", lambda: panel() is not state["old"]
-             and panel().animation.ended, after_replay)
+    replay("the replay with the recipe", after_replay)
 
 
 def after_replay():
-    replayed = panel().animation.result
+    replayed = task_panel().animation.result
     result["replay_code"] = replayed.code
     result["replay_plan"] = [replayed.plan.rules, list(replayed.plan.thickness_window())]
-    result["replay_label"] = panel().recipe.text()
-    panel().animation.stop()
+    result["replay_label"] = task_panel().recipe.text()
+    task_panel().animation.stop()
     Gui.Control.closeDialog()
     finish()
 

@@ -22,8 +22,8 @@ def begin():
     Gui.updateGui()
     result["document"] = App.ActiveDocument.Name
     Gui.runCommand("WaferScan_RunScan")
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     state["panel"], state["animation"] = panel, panel.animation
     result["task_panel_shown"] = Gui.Control.activeDialog()
     result["recipe_label"] = panel.recipe.text()  # SPEC §11
@@ -48,10 +48,10 @@ def paused_on_a_wafer():
     lit = panel.animation.lit
     wafer = App.ActiveDocument.getObjectsByLabel(lit[0])[0]
     result["highlight"] = list(wafer.ViewObject.ShapeColor[:3])
-    result["beam_colour"] = list(panel.animation.beam.ViewObject.LineColor[:3])
+    result["beam_colour"] = list(panel.animation.appearance.beam.ViewObject.LineColor[:3])
     carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
     result["see_through_during"] = [carrier.ViewObject.Transparency,
-                                    panel.animation.beam.ViewObject.LineWidth]
+                                    panel.animation.appearance.beam.ViewObject.LineWidth]
     view = Gui.ActiveDocument.ActiveView
     view.saveImage(artifact("gui-during-scan.png"), 1200, 800, "White")
     window_shot("gui-scan-panel.png")
@@ -66,7 +66,7 @@ def resume():
 
 
 def after_animation():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     panel = state["panel"]
     result["completed"] = panel.animation.completed
     frames = state["frames"]
@@ -74,14 +74,15 @@ def after_animation():
                         frames[-1], panel.animation.frames, panel.animation.duration_s]
     carrier = App.ActiveDocument.getObjectsByLabel("LP1")[0]
     result["see_through_after"] = [carrier.ViewObject.Transparency,
-                                   panel.animation.beam.ViewObject.LineWidth]
+                                   panel.animation.appearance.beam.ViewObject.LineWidth]
     result["panel_status"] = panel.status.text()
-    wait_for("the results dialogs", lambda: len(commands.session.dialogs) == 2, dialogs)
+    wait_for("the results dialogs", lambda: len(session.dialogs) == 2, dialogs)
 
 
 def dialogs():
-    from waferscan.gui import commands
-    table, dialog = commands.session.dialogs
+    from waferscan.gui.dialogs import cross_check
+    from waferscan.gui.session import session
+    table, dialog = session.dialogs
     Gui.updateGui()
     result["rows"] = table.rows()
     csv_path = os.environ["WAFERSCAN_GUI_SAVE"].replace(".FCStd", ".csv")
@@ -108,17 +109,17 @@ def dialogs():
     Gui.ActiveDocument.ActiveView.saveImage(artifact("gui-after-scan.png"), 1200, 800, "White")
     window_shot("gui-main-window.png")
     App.ActiveDocument.saveAs(os.environ["WAFERSCAN_GUI_SAVE"])
-    check = commands.cross_check(App.ActiveDocument)
+    check = cross_check(App.ActiveDocument)
     result["crosscheck_ok"] = check.ok
     result["crosscheck_deviation"] = check.largest_deviation
-    result["crosscheck_box"] = commands.session.dialogs[0].text()
+    result["crosscheck_box"] = session.dialogs[0].text()
     later(fault_during_animation, 100)
 
 
 def fault_during_animation():
-    from waferscan.gui import commands
+    from waferscan.gui.playback import run_scan
     doc = App.ActiveDocument
-    animation = commands.run_scan(doc, steps_per_frame=5)
+    animation = run_scan(doc, steps_per_frame=5)
     state["fault_animation"] = animation
     wait_for("a few frames", lambda: animation.k > 100, delete_a_link)
 
@@ -133,9 +134,9 @@ def delete_a_link():
 
 
 def after_fault():
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     animation = state["fault_animation"]
-    panel = commands.session.task_panel
+    panel = session.task_panel
     result["fault"] = animation.fault
     result["fault_completed"] = animation.completed
     result["fault_status"] = panel.status.text()

@@ -6,11 +6,12 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, later, result, start  # noqa: E402
+from probe_steps import (  # noqa: E402
+    accept_preferences, artifact, finish, later, result, start)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtCore, QtGui  # noqa: E402
+from PySide import QtGui  # noqa: E402
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 NAMES = ("SpotDiameter", "SpotWidth", "SpotHeight", "ThresholdOn", "ThresholdOff",
@@ -55,16 +56,7 @@ def open_preferences(key, edit, then):
     """Open the preferences with the workbench's command; on the WaferScan page record the
     sensor fields' texts, set ``edit`` (None: leave the page alone) and click OK."""
 
-    def on_dialog():
-        dialog = QtGui.QApplication.activeModalWidget()
-        if dialog is None:
-            QtCore.QTimer.singleShot(50, on_dialog)
-            return
-        for tree in dialog.findChildren(QtGui.QListWidget):
-            for i in range(tree.count()):
-                if tree.item(i).text() == "WaferScan":
-                    tree.setCurrentRow(i)
-        QtGui.QApplication.processEvents()
+    def on_page(dialog):
         shape = dialog.findChild(QtGui.QComboBox, "SpotShape")
         latch = dialog.findChild(QtGui.QComboBox, "Latch")
         fields = {name: dialog.findChild(QtGui.QLineEdit, name) for name in NAMES}
@@ -86,12 +78,8 @@ def open_preferences(key, edit, then):
             QtGui.QApplication.processEvents()
             page = shape.parentWidget()
             page.grab().save(artifact("gui-preferences-sensor.png"))
-        ok = [b for b in dialog.findChildren(QtGui.QPushButton)
-              if b.text().replace("&", "") == "OK"]
-        ok[0].click()
 
-    QtCore.QTimer.singleShot(100, on_dialog)
-    Gui.runCommand("WaferScan_Preferences")  # modal: returns once OK was clicked
+    accept_preferences(on_page)
     result[key]["stored"] = stored()
     later(then, 50)
 
@@ -114,10 +102,10 @@ def new_layout():
     result["existing_after"] = settings_values(existing)
     result["existing_read"] = read_back(existing)
     # A document of its own without ScanSettings (tagged solids, say): Run scan adds one.
-    from waferscan.gui import commands
+    from waferscan.gui.scanning import ensure_settings
     bare = App.getDocument(result["existing_name"])
     bare.removeObject("ScanSettings")
-    commands.ensure_settings(bare)
+    ensure_settings(bare)
     result["added"] = settings_values(bare)
     result["added_read"] = read_back(bare)
     open_preferences("untouched", edit=False, then=refused)

@@ -6,17 +6,12 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    finish, open_section, replay, result, scan_paper_layout, start, task_panel, wait_for,
+    window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-
-state = {}
-
-
-def panel():
-    from waferscan.gui import commands
-    return commands.session.task_panel
 
 
 def settings():
@@ -24,11 +19,7 @@ def settings():
 
 
 def begin():
-    Gui.activateWorkbench("WaferScanWorkbench")
-    Gui.runCommand("WaferScan_NewPaperLayout")
-    Gui.updateGui()
-    Gui.runCommand("WaferScan_RunScan")
-    first = panel()
+    first = scan_paper_layout()
     first.speed.setValue(1.0)
     result["first_code"] = first.animation.result.code
     result["collapsed_visible"] = first.sensor.body.isVisible()
@@ -38,10 +29,8 @@ def begin():
 
 
 def edit_spot():
-    section = panel().sensor
-    section.toggle.click()
-    Gui.updateGui()
-    result["expanded_visible"] = section.body.isVisible()
+    section = task_panel().sensor
+    result["expanded_visible"] = open_section(section)
     undo_before = App.ActiveDocument.UndoCount
     # Refused by the reader: OFF above ON.
     section.fields["SpotDiameter"].setText("2 mm")
@@ -57,39 +46,34 @@ def edit_spot():
                             App.ActiveDocument.UndoCount - undo_before,
                             App.ActiveDocument.UndoNames[0]]
     window_shot("gui-scan-panel-sensor.png")
-    state["old"] = panel()
-    panel().replay_button.click()
-    wait_for("the replay with the spot", lambda: panel() is not state["old"]
-             and panel().animation.ended, after_spot)
+    replay("the replay with the spot", after_spot)
 
 
 def after_spot():
-    spotted = panel().animation.result
+    spotted = task_panel().animation.result
     result["spot_code"] = spotted.code
     result["spot_params"] = [spotted.layout.spot.diameter if spotted.layout.spot else None]
     result["spot_runs"] = [[r.z_in, r.z_out] for r in spotted.runs]
     result["wafers"] = {w.name: [w.center[2], w.thickness] for w in spotted.layout.wafers}
     settings().Mode = "slow"  # the mode is the Data tab's (not in the section)
     App.ActiveDocument.recompute()
-    section = panel().sensor
+    section = task_panel().sensor
     section.fields["Jab"].setText("5 mm")
     section.fields["SpotDiameter"].setText("0 mm")
     result["jab_applied"] = section.apply()
-    state["old"] = panel()
-    panel().replay_button.click()
-    wait_for("the replay with the jab", lambda: panel() is not state["old"], after_jab)
+    replay("the replay with the jab", after_jab, until_ended=False)
 
 
 def after_jab():
-    jabbed = panel().animation.result
+    jabbed = task_panel().animation.result
     result["jab_scan"] = [jabbed.layout.scan.mode, jabbed.layout.scan.jab]
     result["pockets"] = [[p.slot, p.front] for p in jabbed.pockets]
     result["jab_code"] = jabbed.code
-    panel().animation.stop()
+    task_panel().animation.stop()
     # SPEC §10's other settings in the section: sampled latching without a read period is
     # refused, with one (and a slit, an acceleration) written and read by the scan's reader.
     from waferscan.cad.reader import read_layout
-    section = panel().sensor
+    section = task_panel().sensor
     section.latch.setCurrentIndex(section.latch.findText("sampled"))
     result["sampled_bare"] = [section.apply(), section.message.text()]
     for name, text in (("SamplePeriod", "0.002"), ("Acceleration", "1500"),

@@ -6,7 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, later, result, start  # noqa: E402
+from probe_steps import (  # noqa: E402
+    accept_preferences, artifact, finish, later, result, start)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -38,28 +39,15 @@ def open_preferences(key, edit=None, then=None):
     """Open the preferences with the workbench's command; on the WaferScan page record the
     fields' text, type ``edit`` {field: text} if given, and click OK."""
 
-    def on_dialog():
-        dialog = QtGui.QApplication.activeModalWidget()
-        if dialog is None:
-            QtCore.QTimer.singleShot(50, on_dialog)
-            return
-        for tree in dialog.findChildren(QtGui.QListWidget):
-            for i in range(tree.count()):
-                if tree.item(i).text() == "WaferScan":
-                    tree.setCurrentRow(i)
-        QtGui.QApplication.processEvents()
+    def on_page(dialog):
         fields = {name: dialog.findChild(QtGui.QLineEdit, name) for name in FIELDS}
         result[key] = {"texts": {name: field.text() for name, field in fields.items()}}
         for name, text in (edit or {}).items():
             fields[name].setText(text)
         os.makedirs(os.path.dirname(artifact("x")), exist_ok=True)
         dialog.grab().save(artifact(f"gui-preferences-{key}.png"))
-        ok = [b for b in dialog.findChildren(QtGui.QPushButton)
-              if b.text().replace("&", "") == "OK"]
-        ok[0].click()
 
-    QtCore.QTimer.singleShot(100, on_dialog)
-    Gui.runCommand("WaferScan_Preferences")  # modal: returns once OK was clicked
+    accept_preferences(on_page)
     result[key]["stored"] = stored()
     later(then, 50)
 
@@ -109,8 +97,8 @@ def mcs_without_folder():
     use_schema(0)
     Gui.runCommand("WaferScan_NewPaperLayout")
     Gui.runCommand("WaferScan_McsLink")
-    from waferscan.gui import commands
-    panel = commands.session.task_panel
+    from waferscan.gui.session import session
+    panel = session.task_panel
     result["mcs_folder_shown"] = panel.folder.text()
     asked = []
     choose_folder(None, asked)

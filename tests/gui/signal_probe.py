@@ -6,9 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for  # noqa: E402
+from probe_steps import finish, result, scan_scenario, start, wait_for  # noqa: E402
 
-import FreeCADGui as Gui  # noqa: E402
 
 seen = []
 
@@ -24,27 +23,25 @@ def colours(widget):
 
 
 def begin():
-    from waferscan.gui import commands
-    Gui.activateWorkbench("WaferScanWorkbench")
-    doc = commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = commands.run_scan(doc, steps_per_frame=200)
-    trace = commands.session.task_panel.trace
+    from waferscan.gui.session import session
+    animation = scan_scenario(steps_per_frame=200)
+    trace = session.task_panel.trace
     animation.moved.connect(lambda k, z: seen.append([z, list(trace.window())]))
     wait_for("the animation's end", lambda: animation.ended, after_animation)
 
 
 def after_animation():
-    from waferscan.gui import commands
-    trace = commands.session.task_panel.trace
+    from waferscan.gui.session import session
+    trace = session.task_panel.trace
     result["live_windows"] = seen
     result["live_cursor"] = trace.cursor
     result["live_samples"] = [list(map(float, a)) for a in trace.samples_in_window()]
-    wait_for("the results dialogs", lambda: len(commands.session.dialogs) == 2, dialogs)
+    wait_for("the results dialogs", lambda: len(session.dialogs) == 2, dialogs)
 
 
 def dialogs():
-    from waferscan.gui import commands
-    _, code = commands.session.dialogs
+    from waferscan.gui.session import session
+    _, code = session.dialogs
     view = code.signal_view
     result["dialog_window"] = list(view.window())
     result["dialog_size"] = [view.width(), view.height()]

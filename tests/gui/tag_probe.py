@@ -6,7 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, result, start, wait_for, window_shot  # noqa: E402
+from probe_steps import (  # noqa: E402
+    artifact, finish, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -76,8 +77,8 @@ def begin():
     Gui.Selection.addSelection(wafers[0])
     Gui.Selection.addSelection(bracket)
     Gui.runCommand("WaferScan_TagWafer")
-    from waferscan.gui import commands
-    refusals = message_boxes()
+    from waferscan.gui.session import session
+    refusals = message_texts()
     result["refusal"] = refusals[-1] if refusals else None
     result["after_refusal"] = [role(wafers[0]), role(bracket)]
     result["undo_after_refusal"] = list(doc.UndoNames) == undo_before
@@ -104,20 +105,20 @@ def begin():
     sensor.Receiver = App.Vector(160, 2, 2)
     sensor.Placement.Base = App.Vector(80, 64.6, -2)  # the emitter at Z 0
     doc.recompute()
-    result["tag_messages"] = message_boxes()  # what to set next, for the carrier and scanner
+    result["tag_messages"] = message_texts()  # what to set next, for the carrier and scanner
     result["undo_names"] = list(doc.UndoNames)
     Gui.Selection.clearSelection()
     Gui.runCommand("WaferScan_RunScan")
     state["doc"] = doc
-    panel = commands.session.task_panel
+    panel = session.task_panel
     result["speed_from_preferences"] = panel.speed.value()
     wait_for("the animation's end", lambda: panel.animation.ended, scanned)
 
 
 def scanned():
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result
     doc = state["doc"]
-    result["code"] = commands.last_result(doc).code
+    result["code"] = last_result(doc).code
     settings = [o for o in doc.Objects if getattr(o, "WaferScanRole", "") == "ScanSettings"][0]
     result["settings"] = [settings.ThicknessTolerance, settings.PositionTolerance.Value,
                           settings.ProtrusionLimit.Value]
@@ -128,17 +129,6 @@ def scanned():
     edits(doc, settings)
 
 
-def message_boxes():
-    """The texts of the message boxes shown, which are then closed."""
-    from waferscan.gui import commands
-    from waferscan.gui.qt import alive
-    shown = [m for m in commands.session.message_boxes if alive(m) and m.isVisible()]
-    texts = [box.text() for box in shown]
-    for box in shown:
-        box.close()
-    return texts
-
-
 class ForeignPanel:
     """Another tool's task panel (as a sketch in edit would be)."""
 
@@ -147,23 +137,23 @@ class ForeignPanel:
 
 
 def edits(doc, settings):
-    from waferscan.gui import commands
+    from waferscan.gui.session import session
     # A range typed wrong in the property editor: a message, no traceback, no animation.
     settings.FinalZ = -5.0
     Gui.runCommand("WaferScan_RunScan")
-    result["bad_range_messages"] = message_boxes()
+    result["bad_range_messages"] = message_texts()
     result["bad_range_panel"] = bool(Gui.Control.activeDialog())
     settings.FinalZ = 60.0
     # Another tool's task panel is open: ours waits for it.
     Gui.Control.showDialog(ForeignPanel())
     Gui.runCommand("WaferScan_RunScan")
-    result["foreign_messages"] = message_boxes()
+    result["foreign_messages"] = message_texts()
     Gui.Control.closeDialog()
     # Exact edges, scanned downwards: the animation runs top to bottom.
     settings.ZStep = 0.0
     settings.Direction = "down"
     Gui.runCommand("WaferScan_RunScan")
-    panel = commands.session.task_panel
+    panel = session.task_panel
     result["exact_about"] = panel.form.findChildren(QtGui.QLabel)[0].text()
     result["exact_first_z"] = None
     panel.animation.moved.connect(
@@ -174,22 +164,22 @@ def edits(doc, settings):
 
 
 def after_exact(doc):
-    from waferscan.gui import commands
+    from waferscan.gui.session import last_result, session
     panel = state["exact"]
     result["exact_completed"] = panel.animation.completed
-    result["exact_code"] = commands.last_result(doc).code
+    result["exact_code"] = last_result(doc).code
     Gui.Control.closeDialog()
-    for dialog in commands.session.dialogs:
+    for dialog in session.dialogs:
         dialog.close()
     # A wafer deleted after the scan: the results table and the cross-check see the document
     # as it is now.
     doc.removeObject("Wafer3")
     doc.recompute()
     Gui.runCommand("WaferScan_Results")
-    table = commands.session.dialogs[0]
+    table = session.dialogs[0]
     result["rows_after_delete"] = table.rows()
     Gui.runCommand("WaferScan_CrossCheck")
-    result["crosscheck_after_delete"] = commands.session.dialogs[0].text()
+    result["crosscheck_after_delete"] = session.dialogs[0].text()
     QtGui.QApplication.clipboard().clear()
     finish()
 

@@ -6,28 +6,23 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, wait_for  # noqa: E402
-
-import FreeCADGui as Gui  # noqa: E402
+from probe_steps import finish, result, scan_scenario, start, wait_for  # noqa: E402
 
 
 def begin():
-    from waferscan.gui import commands
-    Gui.activateWorkbench("WaferScanWorkbench")
-    doc = commands.open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
-    animation = commands.run_scan(doc, steps_per_frame=500)
+    animation = scan_scenario(steps_per_frame=500)
     wait_for("the animation's end", lambda: animation.ended, after_animation)
 
 
 def after_animation():
-    from waferscan.gui import commands
-    result["panel_status"] = commands.session.task_panel.status.text()
-    wait_for("the results dialogs", lambda: len(commands.session.dialogs) == 2, dialogs)
+    from waferscan.gui.session import session
+    result["panel_status"] = session.task_panel.status.text()
+    wait_for("the results dialogs", lambda: len(session.dialogs) == 2, dialogs)
 
 
 def dialogs():
-    from waferscan.gui import commands
-    table, code = commands.session.dialogs
+    from waferscan.gui.session import session
+    table, code = session.dialogs
     result["rows"] = table.rows()
     result["state_colours"] = [list(table.table.item(r, 6).background().color().getRgb()[:3])
                                for r in range(table.table.rowCount())]

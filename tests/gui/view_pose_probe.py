@@ -32,13 +32,13 @@ def touched(doc):
 
 def begin():
     from waferscan.cad.document_scan import scan_document
-    from waferscan.gui import commands
+    from waferscan.gui.playback import play_scan
 
     doc = App.openDocument(os.environ["WAFERSCAN_GUI_LAYOUT"])
     doc.recompute()
     state["doc"] = doc
     result["touched_before"] = touched(doc)
-    animation = commands.play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
+    animation = play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
                                    show_results=False, panel=True)
     state["animation"] = animation
     result["view_pose"] = animation.pose is not None

@@ -1,8 +1,8 @@
 """The animated scan: a QTimer that steps the robot's lift joint (or the scanner) through the
 scan positions by placing them in the 3D view only (``ViewPose``: the document is not changed, no
-recompute); the beam drawn red while blocked and
-the wafer being hit highlighted. What is blocked comes from the headless scan's result: the
-animation shows it, it does not compute it."""
+recompute); the beam drawn red while blocked and the wafer being hit highlighted
+(``scan_appearance``). What is blocked comes from the headless scan's result: the animation
+shows it, it does not compute it."""
 
 from __future__ import annotations
 
@@ -16,9 +16,8 @@ from ..cad.stepping import mover_for
 from ..cad.reader import DocumentScene
 from ..core.model import DOWN, UPDOWN
 from .qt import set_progress
+from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR, ScanAppearance
 
-BEAM_CLEAR, BEAM_BLOCKED = (0.1, 0.6, 0.1), (0.9, 0.1, 0.1)
-WAFER_HIT = (0.95, 0.55, 0.1)
 EXACT_FRAMES = 2000  # an exact scan (z_step = 0) has no steps: it is drawn at this many
 CLOCK_FRAME_MS = 15  # played against the clock: a frame every 15 ms at most (≈ 60 a second)
 
@@ -32,7 +31,8 @@ class ScanAnimation(QtCore.QObject):
 
     ``moved(frame, z)`` is emitted at every frame; ``finished`` when the animation ends, at the
     last frame (``completed`` is then True), by ``stop()``, or by a fault (``fault`` says which).
-    ``ended`` says whether it has; ``lit`` names the wafers the beam meets now.
+    ``ended`` says whether it has; ``lit`` names the wafers the beam meets now. How the view
+    looks meanwhile (and again after) is its ``appearance``'s.
     """
 
     moved = QtCore.Signal(int, float)
@@ -54,7 +54,8 @@ class ScanAnimation(QtCore.QObject):
         # The robot (or scanner) moved in the 3D view only, the document left as it is (None:
         # a moved object has no transform node of its own, so through the document).
         self.pose = ViewPose.of(self.mover, self.scan.start_z)
-        self.beam = scene.scanner().obj
+        # The carriers see-through, the beam drawn thick or over the scanner, until the end.
+        self.appearance = ScanAppearance(doc, scene, result)
         # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
         # raises) is seen by name at every frame and ends the animation.
         self.tracked = {o.Name: o.Label for o in self.mover.moved_objects()}
@@ -66,12 +67,6 @@ class ScanAnimation(QtCore.QObject):
         else:
             self.step, self.count = scan.z_step, scan.position_count
         self.frames = 2 * self.count - 1 if scan.direction == UPDOWN else self.count
-        # Each wafer of the result by its name, as the scene walk found it: the object it shows
-        # through links (the one whose colour the 3D view draws).
-        self.wafers = {wafer.name: instance.target
-                       for wafer, instance in zip(result.layout.wafers, scene.wafers)}
-        self.colours = {name: tuple(w.ViewObject.ShapeColor[:3])
-                        for name, w in self.wafers.items() if w.ViewObject}
         self.k = 0  # the frame shown next
         self.z = self.position(0)
         self.completed = False
@@ -90,31 +85,6 @@ class ScanAnimation(QtCore.QObject):
         self.bar.setFormat("scanning %p %")
         Gui.getMainWindow().statusBar().addPermanentWidget(self.bar)
         self.ended = False
-        self.lit = ()
-        # While it runs, the carriers are see-through and the beam drawn thick: the beam lies
-        # inside the carrier, behind its walls.
-        self._restore_view = []
-        changes = [(obj, "Transparency", 70) for obj in see_through_objects(scene)]
-        # WaferScan's own scanner is the beam rod itself; a user's scanner is a solid (a fork)
-        # that keeps its look, and the beam is drawn over it in the 3D view.
-        self.overlay = None
-        if is_own_beam(self.beam):
-            changes += [(self.beam, "LineWidth", 4.0), (self.beam, "ShapeColor", None),
-                        (self.beam, "LineColor", None)]
-        elif self.beam.ViewObject is not None:
-            self.overlay = BeamOverlay(self.beam)
-        for obj, prop, value in changes:
-            view = obj.ViewObject
-            if view is not None and prop in view.PropertiesList:
-                self._restore_view.append((view, prop, getattr(view, prop)))
-                if value is not None:
-                    setattr(view, prop, value)
-        # The opaque closed solids drawn without their back faces while it runs (nothing
-        # changes on screen; see BackFaces).
-        try:
-            self.back_faces = BackFaces.culled(opaque_closed_solids(doc))
-        except Exception:  # a view provider without usable nodes: everything drawn as it is
-            self.back_faces = BackFaces([])
 
     def position(self, frame):
         """The scan position shown at a frame, in the scan's direction."""
@@ -163,6 +133,11 @@ class ScanAnimation(QtCore.QObject):
     def running(self):
         return self.timer.isActive()
 
+    @property
+    def lit(self):
+        """The names of the wafers the beam meets now (highlighted in the 3D view)."""
+        return self.appearance.lit
+
     def _end(self, completed=False, fault=None):
         if self.ended:
             return
@@ -170,13 +145,9 @@ class ScanAnimation(QtCore.QObject):
         self.timer.stop()
         self.completed, self.fault = completed, fault
         # Each put back on its own: one that fails (its object deleted) leaves the others.
-        undo = [lambda: self._light(()),
+        undo = [lambda: self.appearance.light(()),
                 self.pose.restore if self.pose is not None else self.mover.restore,
-                self.back_faces.restore]
-        if self.overlay is not None:
-            undo.append(self.overlay.remove)
-        undo += [lambda v=view, p=prop, x=value: setattr(v, p, x)
-                 for view, prop, value in self._restore_view]
+                *self.appearance.undo_steps()]
         for step in undo:
             try:
                 step()
@@ -200,28 +171,6 @@ class ScanAnimation(QtCore.QObject):
             except Exception:  # the view was closed
                 self.views.remove(view)
 
-    def _set_beam(self, colour):
-        # Only on a change: setting a colour, even the same one, makes Coin redraw the beam.
-        if colour == getattr(self, "_beam_colour", None):
-            return
-        self._beam_colour = colour
-        if self.overlay is not None:
-            self.overlay.set_colour(colour)
-        elif self.beam.ViewObject is not None:
-            self.beam.ViewObject.ShapeColor = colour
-            self.beam.ViewObject.LineColor = colour
-
-    def _light(self, names):
-        if names == self.lit:
-            return
-        for name in self.lit:
-            if name in self.wafers and name in self.colours:
-                self.wafers[name].ViewObject.ShapeColor = self.colours[name]
-        for name in names:
-            if name in self.wafers and self.wafers[name].ViewObject:
-                self.wafers[name].ViewObject.ShapeColor = WAFER_HIT
-        self.lit = names
-
     def _tick(self):
         last = self.frames - 1
         if self.duration_s is not None and self._frame_shown is not None:
@@ -241,8 +190,8 @@ class ScanAnimation(QtCore.QObject):
             else:
                 self.mover.move_to(self.z)
             hit = tuple(name for z_in, z_out, name in self.spans if z_in <= self.z <= z_out)
-            self._set_beam(BEAM_BLOCKED if hit else BEAM_CLEAR)
-            self._light(hit)
+            self.appearance.show_beam(BEAM_BLOCKED if hit else BEAM_CLEAR)
+            self.appearance.light(hit)
         except Exception as exc:  # e.g. a robot link deleted while the animation runs
             self._end(fault=f"{type(exc).__name__}: {exc}")
             return
@@ -328,158 +277,3 @@ def _shows(node, placement, tolerance=1e-4):
     q = node.rotation.getValue().getValue()
     r = placement.Rotation.Q
     return abs(abs(sum(a * b for a, b in zip(q, r))) - 1.0) < tolerance
-
-
-def is_own_beam(obj):
-    """Whether the scanner object is WaferScan's own beam (drawn as the beam itself), not a
-    user's solid."""
-    from ..cad.features import ScannerBeam
-
-    return isinstance(getattr(obj.getLinkedObject(True), "Proxy", None), ScannerBeam)
-
-
-def see_through_objects(scene):
-    """What turns see-through while the scan runs: each carrier, or, for a carrier that is a
-    container (a user's App::Part or an imported link group), the shapes inside it; wafers and
-    the scanner inside it stay as they are."""
-    from ..cad import roles
-
-    found, seen = [], set()
-    stack = [instance.obj for instance in scene.carriers]
-    while stack:
-        obj = stack.pop()
-        if obj.Name in seen:
-            continue
-        seen.add(obj.Name)
-        view = obj.ViewObject
-        if view is not None and "Transparency" in view.PropertiesList:
-            found.append(obj)
-            continue
-        for sub in obj.getSubObjects():
-            child = obj.getSubObject(sub, retType=1)
-            if child is not None and roles.role_of(child) not in (roles.WAFER, roles.SCANNER):
-                stack.append(child)
-    return found
-
-
-class BeamOverlay:
-    """The beam from a user's scanner's emitter to its receiver, drawn into the scanner's own
-    scene-graph node, so that it moves with the scanner; not a document object, so nothing
-    enters the document or its undo history."""
-
-    def __init__(self, obj):
-        from pivy import coin
-
-        from ..cad import roles
-
-        role_object = roles.role_holder(obj)
-        self.root = obj.ViewObject.RootNode
-        self.node = coin.SoSeparator()
-        light = coin.SoLightModel()
-        light.model = coin.SoLightModel.BASE_COLOR
-        self.colour = coin.SoBaseColor()
-        style = coin.SoDrawStyle()
-        style.lineWidth = 4
-        points = coin.SoCoordinate3()
-        points.point.setValues(0, 2, [tuple(role_object.Emitter), tuple(role_object.Receiver)])
-        line = coin.SoLineSet()
-        line.numVertices.setValue(2)
-        for node in (light, self.colour, style, points, line):
-            self.node.addChild(node)
-        self.root.addChild(self.node)
-        self.set_colour(BEAM_CLEAR)
-
-    def set_colour(self, rgb):
-        self.colour.rgb.setValue(*rgb)
-
-    def remove(self):
-        self.root.removeChild(self.node)
-
-
-# Part's primitives, always one closed solid facing out (the wafers are Part::Cylinder).
-CLOSED_PRIMITIVES = ("Part::Box", "Part::Cylinder", "Part::Sphere", "Part::Cone", "Part::Torus")
-
-
-def opaque_closed_solids(doc):
-    """The shapes of ``doc`` shown opaque whose every face bounds a closed solid of positive
-    volume (no loose face, no open shell, not turned inside out): from outside, only their
-    front faces can be seen. The see-through ones are left out (set before: the carriers while
-    the scan runs), and containers (App::Part), whose view holds their children's."""
-    found = []
-    for obj in doc.Objects:
-        view = getattr(obj, "ViewObject", None)
-        if view is None or not view.Visibility or not obj.isDerivedFrom("Part::Feature"):
-            continue
-        if obj.hasExtension("App::GroupExtension"):
-            # A container that is a shape too (a PartDesign Body): its view holds its
-            # features' views, each with shape hints of its own; they are judged alone.
-            continue
-        if getattr(view, "Transparency", 0):
-            continue
-        try:
-            shape = obj.Shape
-            if obj.TypeId in CLOSED_PRIMITIVES:  # a wafer: checking costs ~0.09 ms each
-                closed = not shape.isNull()
-            else:
-                solids = shape.Solids
-                closed = bool(solids) and \
-                    len(shape.Faces) == sum(len(s.Faces) for s in solids) and \
-                    all(s.Volume > 0 and all(shell.isClosed() for shell in s.Shells)
-                        for s in solids)
-        except Exception:  # a shape OpenCASCADE cannot check: drawn as it is
-            closed = False
-        if closed:
-            found.append(obj)
-    return found
-
-
-class BackFaces:
-    """Back faces of closed solids left undrawn (culled) in the 3D view, and put back.
-
-    FreeCAD draws every face from both sides (its shape hints leave the shape type unknown),
-    so each solid's far side is rasterised too and then hidden by its near side: with software
-    rendering (Mesa llvmpipe) every pixel costs. The stacked wafers' undersides and the robot's
-    far sides were ~0.75 ms of a 15.6 ms frame of Run scan's animation in the bench's view.
-    A closed, outward-facing solid seen from outside shows its front faces only, so the image
-    is the same pixel for pixel; what the user would see differently is only the inside of a
-    solid with the camera in it. Set in the view's own shape-hints nodes (not a document or
-    preference change), for the animation's time."""
-
-    def __init__(self, saved):
-        self.saved = saved  # [(shape hints node, vertex ordering, shape type)]
-
-    @classmethod
-    def culled(cls, objects):
-        from pivy import coin
-
-        saved = []
-        for obj in objects:
-            search = coin.SoSearchAction()
-            search.setType(coin.SoShapeHints.getClassTypeId())
-            search.setInterest(coin.SoSearchAction.ALL)
-            search.setSearchingAll(True)  # every display mode's, not only the shown one's
-            search.apply(obj.ViewObject.RootNode)
-            paths = search.getPaths()
-            # All saved before any is set: a node met twice (shared by display modes) keeps
-            # its own values to go back to.
-            saved += [(hints, hints.vertexOrdering.getValue(), hints.shapeType.getValue())
-                      for hints in (paths[index].getTail() for index in
-                                    range(paths.getLength()))]
-        for hints, _, _ in saved:
-            # Held: an object deleted while the animation runs (its view provider and nodes
-            # with it) must not leave restore() writing into freed nodes (FreeCAD crashed).
-            hints.ref()
-            # Solid, its faces counter-clockwise seen from outside (FreeCAD turns a reversed
-            # face's triangles to face out): Coin culls the back faces.
-            hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
-            hints.shapeType = coin.SoShapeHints.SOLID
-        return cls(saved)
-
-    def restore(self):
-        """Draw both sides again, as FreeCAD had them."""
-        saved, self.saved = self.saved, []
-        for hints, ordering, shape_type in reversed(saved):
-            hints.vertexOrdering = ordering
-            hints.shapeType = shape_type
-        for hints, _, _ in saved:
-            hints.unref()

@@ -1,6 +1,6 @@
 """Run inside the FreeCAD GUI (``freecad this_file.py``): measure how many placement updates a
 second the 3D view shows while the GUI's scan animation plays the demo layout as **Run scan**
-plays it (``commands.play_scan``: the ``ScanAnimation``, a QTimer that places the robot in the 3D
+plays it (``playback.play_scan``: the ``ScanAnimation``, a QTimer that places the robot in the 3D
 view, no recompute, with its task panel: position, progress and the live signal trace), and the longest
 stall. Writes a JSON result to $WAFERSCAN_BENCH_RESULT and quits.
 
@@ -29,7 +29,7 @@ def main():
     from pivy import coin
 
     from waferscan.cad.document_scan import scan_document
-    from waferscan.gui import commands
+    from waferscan.gui.playback import play_scan
 
     result = {"ok": False}
     try:
@@ -50,7 +50,7 @@ def main():
         counter.setCallback(rendered)
         view.getSceneGraph().insertChild(counter, 0)
         # The GUI's own Run scan (10 steps a frame, frames as fast as they come), panel and all.
-        animation = commands.play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
+        animation = play_scan(doc, scan_document(doc, "analytic"), steps_per_frame=10,
                                        show_results=False, panel=True)
 
         def frame(k, z):

@@ -1,8 +1,7 @@
 """The MCS link task panel: the folder of the three files, parameters.txt seen and edited with
-validation, and watching commands.txt. The link is the headless one (``core.files.mcs_link.McsLink``
-with ``cad.mcs_watch.document_scanner``), so results.txt is written exactly as ``waferscan
-watch`` writes it; the panel only decides when to poll: on a file-system event and, as a
-fallback for file systems that send none (network shares), on a timer."""
+validation, and watching commands.txt with the log of the commands carried out. The link itself,
+and when it is polled, is ``link_watch.LinkWatch``'s: the headless link, so results.txt is
+written exactly as ``waferscan watch`` writes it."""
 
 from __future__ import annotations
 
@@ -13,7 +12,6 @@ import FreeCAD as App
 from PySide import QtCore, QtGui
 
 from ..addon import icon_path
-from ..cad.mcs_watch import document_scanner
 from ..cad.reader import read_layout
 from ..core.errors import InputError
 from ..core.files.mcs import (
@@ -23,29 +21,14 @@ from ..core.files.mcs import (
     format_parameters,
     parse_parameters,
 )
-from ..core.files.mcs_link import LockLost, McsLink, ScanStopped
+from ..core.files.mcs_link import LockLost
 from ..core.files.text_files import atomic_write_text
 from . import preferences
 from .inputs import folder_row
+from .link_watch import LinkWatch
 from .qt import ClosableTaskPanel
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
-
-
-def _guarded(doc, scan):
-    """The link's scan, with a document that can no longer be read (closed, objects gone)
-    answered as an error instead of stopping the link."""
-
-    def guarded(command, should_stop):
-        try:
-            return scan(command, should_stop)
-        except (InputError, ScanStopped):
-            raise
-        except Exception as exc:
-            raise InputError(getattr(doc, "Label", "document"), None,
-                             f"cannot scan the document: {type(exc).__name__}: {exc}") from None
-
-    return guarded
 
 
 class _FittedTable(QtGui.QTableWidget):
@@ -69,11 +52,7 @@ class McsTaskPanel(ClosableTaskPanel):
 
     def __init__(self, doc, folder=None):
         self.doc = doc
-        self.link = None
-        self.scanner = None  # the link's document scanner: it follows the document's changes
-        self.watcher = None
-        self.timer = QtCore.QTimer()
-        self.timer.timeout.connect(self.poll)
+        self.link = None  # the LinkWatch while watching
         self._polling = False
         # The text the panel last put in the editor, and the file's text as last seen.
         self._text_put_in_editor, self._text_in_folder = None, None
@@ -313,44 +292,25 @@ class McsTaskPanel(ClosableTaskPanel):
             self._show_state(f"{folder}: no such folder", error=True)
             return False
         self.stop()
-        self.scanner = document_scanner(self.doc, folder)
+        poll_ms = preferences.POLL_MS if poll_ms is None else poll_ms
         try:
-            self.link = McsLink(folder, _guarded(self.doc, self.scanner),
-                                log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
+            self.link = LinkWatch(self.doc, folder, self.poll, events, poll_ms)
         except InputError as exc:  # another link (waferscan watch) holds the folder
             self.stop()
             self._show_state(str(exc), error=True)
             return False
-        poll_ms = preferences.POLL_MS if poll_ms is None else poll_ms
-        how = []
-        if events:
-            self.watcher = QtCore.QFileSystemWatcher()
-            self.watcher.directoryChanged.connect(self.poll)
-            self.watcher.fileChanged.connect(self.poll)
-            self.watcher.addPath(str(folder))
-            self._watch_commands_file()
-            how.append("file-system events")
-        if poll_ms:
-            self.timer.start(int(poll_ms))
-            how.append(f"polling every {poll_ms / 1000:g} s")
-        self._show_state(f"watching {folder / COMMANDS} ({' and '.join(how) or 'by hand'})")
+        self._show_state(f"watching {folder / COMMANDS} "
+                         f"({' and '.join(self.link.how) or 'by hand'})")
         App.Console.PrintMessage(f"WaferScan: watching {folder / COMMANDS}\n")
         self._buttons()
         self.poll()
         return True
 
     def stop(self):
-        self.timer.stop()
-        if self.watcher is not None:
-            self.watcher.deleteLater()
-            self.watcher = None
         if self.link is not None:
             self.link.close()  # gives the folder's lock back
             App.Console.PrintMessage(f"WaferScan: stopped watching {self.link.folder}\n")
         self.link = None
-        if self.scanner is not None:
-            self.scanner.close()
-            self.scanner = None
         # FreeCAD deletes the widgets of a panel it closed (the form itself may look alive).
         if self.is_open():
             self._show_state("not watching")
@@ -359,13 +319,6 @@ class McsTaskPanel(ClosableTaskPanel):
     @property
     def watching(self):
         return self.link is not None
-
-    def _watch_commands_file(self):
-        # A file replaced by rename or deleted drops out of the watcher: add it again.
-        path = str(self.link.folder / COMMANDS)
-        if self.watcher is not None and path not in self.watcher.files() and \
-                Path(path).exists():
-            self.watcher.addPath(path)
 
     def poll(self):
         """Carry out what commands.txt holds that results.txt has not answered."""
@@ -392,7 +345,7 @@ class McsTaskPanel(ClosableTaskPanel):
         finally:
             self._polling = False
         if self.link is not None:
-            self._watch_commands_file()
+            self.link.watch_commands_file()
             self._follow_parameters()
         for answer in answers:
             self._add_log_row(answer)

@@ -20,8 +20,7 @@ from ..cad.reader import DocumentScene
 from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan import slow_scan
 from .qt import ClosableTaskPanel
-
-BEAM_CLEAR, BEAM_BLOCKED = (0.1, 0.6, 0.1), (0.9, 0.1, 0.1)
+from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR  # the beam's colours as the scan's
 JAB_FRAMES, SWEEP_FRAMES = 16, 40  # frames of the jab in (and as many out) and of the sweep
 FRAME_MS = 10
 

@@ -12,7 +12,7 @@ from PySide import QtGui
 from ..core.model import MappingTolerances
 from ..core.rules import HALF_THICKNESS_STORED, thickness_tolerance_from_stored
 from .inputs import folder_row, length_input, length_value, set_length
-from .sensor_preferences import SensorDefaultsBox, sensor_defaults  # noqa: F401 (for commands)
+from .sensor_preferences import SensorDefaultsBox, sensor_defaults  # noqa: F401 (for scanning)
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 _DEFAULTS = MappingTolerances()

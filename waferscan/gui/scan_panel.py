@@ -10,17 +10,16 @@ from PySide import QtCore, QtGui
 from ..addon import icon_path
 from .inputs import format_length, length_input, set_length
 from .qt import ClosableTaskPanel, set_progress
+from .session import transaction
 
 
 class ScanTaskPanel(ClosableTaskPanel):
     """Controls for a ``ScanAnimation``; closing the panel stops the animation."""
 
-    def __init__(self, animation, on_completed=None, on_replay=None, transaction=None):
+    def __init__(self, animation, on_completed=None, on_replay=None):
         self.animation = animation
         self.on_completed = on_completed
         self.on_replay = on_replay  # plays the same result again, in a fresh panel
-        # transaction(doc, name): one undo step (commands.transaction, passed in: commands
-        # imports this module) for the Sensor and slow scan section's writes.
         scan = animation.scan
         layout = animation.result.layout
         self.form = QtGui.QWidget()
@@ -86,7 +85,7 @@ class ScanTaskPanel(ClosableTaskPanel):
         from ..cad.reader import DocumentScene, read_layout
         from .sensor_section import SensorSection
 
-        self.settings_changed = False  # then Replay scans anew (commands.play_scan)
+        self.settings_changed = False  # then Replay scans anew (playback.play_scan)
         self.sensor = SensorSection(animation.doc,
                                     lambda doc: read_layout(doc, DocumentScene.of(doc)),
                                     transaction, self._settings_applied)

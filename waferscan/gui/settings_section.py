@@ -25,7 +25,7 @@ def settings_object(doc):
 class SettingsSection:
     """A section's widgets; ``box`` goes into the panel. ``check(doc)`` is the readers' check
     (raises InputError for a value they refuse); ``transaction(doc, name)`` the context of one
-    undo step (commands.transaction, which aborts when its block raises); ``applied`` is called
+    undo step (session.transaction, which aborts when its block raises); ``applied`` is called
     after a change is written.
 
     A section names its ``title``, ``tip``, ``apply_tip``, ``undo_name``, ``missing`` (the

@@ -1,0 +1,153 @@
+"""The windows the commands open, each from the layout as it is now: the results table and the
+slot code (one of each per document, closed with it), the B-rep cross-check, the calibration
+(SPEC §11), the tolerance study (SPEC §12) and the MCS link's task panel. Everything shown comes
+from ``cad`` and ``core``; nothing is computed here."""
+
+from __future__ import annotations
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+from .qt import alive
+from .scanning import result_now
+from .session import check_no_other_task_panel, report, session, show_task_panel
+
+__all__ = ["show_results_dialogs", "fit_screen", "cross_check", "calibrate_layout",
+           "open_tolerance_study", "open_mcs_panel"]
+
+DIALOG_TITLES = {"table": "WaferScan results", "code": "WaferScan slot code"}
+
+
+def show_results_dialogs(doc=None, which=("table", "code"), result=None):
+    """The results table and/or the slot-code dialog of ``result``, by default of the document
+    as it is now. One of each per document: a later scan's replaces the earlier one in the
+    same place, so that dialogs do not pile up; titles name the document."""
+    from .results_view import ResultsTable, SlotCodeDialog
+
+    doc = doc or App.ActiveDocument
+    result = result or result_now(doc)
+    if session.close_watcher is None:
+        session.close_watcher = _ClosedDocuments()
+        App.addDocumentObserver(session.close_watcher)
+    views = session.results_windows.setdefault(doc.Name, {})
+    dialogs = []
+    for kind in which:
+        dialog = ResultsTable(result, doc) if kind == "table" else SlotCodeDialog(result)
+        dialog.setWindowTitle(f"{DIALOG_TITLES[kind]}: {doc.Label}")
+        dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+        if kind == "code":  # room for the side view, on screens that have it
+            dialog.resize(max(dialog.width(), 760), max(dialog.height(), 600))
+        old = views.get(kind)
+        if alive(old) and old.isVisible():
+            dialog.setGeometry(old.geometry())
+            old.close()
+        else:
+            fit_screen(dialog)
+        views[kind] = dialog
+        dialog.show()
+        dialog.raise_()
+        dialogs.append(dialog)
+    session.dialogs = dialogs
+    return dialogs
+
+
+class _ClosedDocuments:
+    """A document closed: its results dialogs close too (they would point at nothing)."""
+
+    def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
+        for dialog in session.results_windows.pop(doc.Name, {}).values():
+            if alive(dialog):
+                dialog.close()
+        session.results.pop(doc.Name, None)
+
+
+def fit_screen(dialog, margin=(40, 80)):
+    """Shrink a dialog to the screen the main window is on (1024×700 included), less a
+    margin for the window frame and the desktop's panels."""
+    screen = QtGui.QApplication.desktop().availableGeometry(Gui.getMainWindow())
+    size = dialog.size()
+    dialog.resize(min(size.width(), screen.width() - margin[0]),
+                  min(size.height(), screen.height() - margin[1]))
+
+
+def cross_check(doc):
+    """The B-rep cross-check of the document's last scan, reported in the report view and a
+    dialog."""
+    from ..cad.crosscheck import crosscheck
+    from ..core.files.report import format_crosscheck
+
+    result = result_now(doc)
+    QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+    Gui.getMainWindow().statusBar().showMessage("WaferScan: cross-checking with OpenCASCADE…")
+    try:
+        check = crosscheck(doc, result)
+    finally:
+        QtGui.QApplication.restoreOverrideCursor()
+        Gui.getMainWindow().statusBar().clearMessage()
+    text = format_crosscheck(check)
+    (App.Console.PrintMessage if check.ok else App.Console.PrintWarning)(
+        f"WaferScan cross-check of {doc.Label}:\n{text}\n")
+    box = QtGui.QMessageBox(QtGui.QMessageBox.Information if check.ok
+                            else QtGui.QMessageBox.Warning, "WaferScan cross-check",
+                            f"{'Confirmed' if check.ok else 'NOT confirmed'}: largest deviation "
+                            f"{check.largest_deviation:.2e} mm over {len(check.wafers)} wafers "
+                            f"and {len(check.runs)} sensor runs.",
+                            QtGui.QMessageBox.Ok, Gui.getMainWindow())
+    box.setDetailedText(text)
+    box.setWindowTitle(f"WaferScan cross-check: {doc.Label}")
+    for details in box.findChildren(QtGui.QTextEdit):  # a table: its columns line up
+        details.setFont(QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.FixedFont))
+        details.setLineWrapMode(QtGui.QTextEdit.NoWrap)
+    box.setModal(False)
+    box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+    box.show()
+    session.dialogs = [box]
+    return check
+
+
+def calibrate_layout(doc):
+    """SPEC §11: calibrate the document's recipe from its reference wafers (slots 1 and n) and
+    show the calibrated recipe beside the current one with the check scan's code. A failure is
+    reported in its own words. Returns the core Calibration, or None."""
+    from ..cad.document_calibration import calibrate_document
+    from ..core.scan.calibration import CalibrationError, format_calibration
+    from .calibration_view import calibration_dialog
+
+    QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+    try:
+        calibration = calibrate_document(doc)
+    except CalibrationError as exc:
+        report(f"Calibration of {doc.Label} failed: {exc}", error=True)
+        return None
+    finally:
+        QtGui.QApplication.restoreOverrideCursor()
+    App.Console.PrintMessage(f"WaferScan calibration of {doc.Label}:\n"
+                             f"{format_calibration(calibration)}\n")
+    dialog = calibration_dialog(calibration, f"WaferScan calibration: {doc.Label}",
+                                Gui.getMainWindow())
+    dialog.show()
+    session.dialogs = [dialog]
+    return calibration
+
+
+def open_tolerance_study(input_path="", **settings):
+    """The "Tolerance study…" dialog (SPEC §12), non-modal; ``settings`` preset its fields
+    (tolerances, n, seed, workers, out). Returns the dialog."""
+    from .tolerance_dialog import ToleranceStudyDialog
+
+    dialog = ToleranceStudyDialog(input_path, **settings)
+    dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+    dialog.show()
+    session.tolerance_study = dialog
+    return dialog
+
+
+
+def open_mcs_panel(doc, folder=None):
+    """The MCS link's task panel on ``doc``, on ``folder`` (None: the preferences' folder).
+    Returns the panel."""
+    from .mcs_panel import McsTaskPanel  # the link's modules load when first opened
+
+    check_no_other_task_panel()
+    return show_task_panel(McsTaskPanel(doc, folder))

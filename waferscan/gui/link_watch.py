@@ -1,0 +1,91 @@
+"""The MCS link driven from the GUI (``LinkWatch``): the headless link
+(``core.files.mcs_link.McsLink`` with ``cad.mcs_watch.document_scanner``), so results.txt is
+written exactly as ``waferscan watch`` writes it, and what says when to poll it: a file-system
+event and, as a fallback for file systems that send none (network shares), a timer. What the
+user sees of it is the MCS link panel's (``mcs_panel``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import FreeCAD as App
+from PySide import QtCore
+
+from ..cad.mcs_watch import document_scanner
+from ..core.errors import InputError
+from ..core.files.mcs import COMMANDS
+from ..core.files.mcs_link import McsLink, ScanStopped
+
+__all__ = ["LinkWatch"]
+
+
+def _guarded(doc, scan):
+    """The link's scan, with a document that can no longer be read (closed, objects gone)
+    answered as an error instead of stopping the link."""
+
+    def guarded(command, should_stop):
+        try:
+            return scan(command, should_stop)
+        except (InputError, ScanStopped):
+            raise
+        except Exception as exc:
+            raise InputError(getattr(doc, "Label", "document"), None,
+                             f"cannot scan the document: {type(exc).__name__}: {exc}") from None
+
+    return guarded
+
+
+class LinkWatch:
+    """The link on ``folder`` scanning ``doc``, and ``poll_now`` called when it is time to poll:
+    on a file-system event in the folder (``events``) and every ``poll_ms`` ms (0: no timer).
+    ``how`` says which, in words. Raises InputError when another link (``waferscan watch``)
+    holds the folder. ``close()`` stops it all and gives the folder's lock back."""
+
+    def __init__(self, doc, folder, poll_now, events=True, poll_ms=0):
+        self.folder = Path(folder)
+        self.watcher = None
+        self.timer = None
+        # The link's document scanner: it follows the document's changes.
+        self.scanner = document_scanner(doc, folder)
+        try:
+            self.link = McsLink(folder, _guarded(doc, self.scanner),
+                                log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
+        except InputError:
+            self.scanner.close()
+            raise
+        self.how = []
+        if events:
+            self.watcher = QtCore.QFileSystemWatcher()
+            self.watcher.directoryChanged.connect(poll_now)
+            self.watcher.fileChanged.connect(poll_now)
+            self.watcher.addPath(str(folder))
+            self.watch_commands_file()
+            self.how.append("file-system events")
+        if poll_ms:
+            self.timer = QtCore.QTimer()
+            self.timer.timeout.connect(poll_now)
+            self.timer.start(int(poll_ms))
+            self.how.append(f"polling every {poll_ms / 1000:g} s")
+
+    def poll(self):
+        """Carry out what commands.txt holds that results.txt has not answered; returns the
+        answers (LockLost when another link answers the folder now)."""
+        return self.link.poll()
+
+    def watch_commands_file(self):
+        """Watch commands.txt again: a file replaced by rename or deleted drops out of the
+        watcher."""
+        path = str(self.folder / COMMANDS)
+        if self.watcher is not None and path not in self.watcher.files() and \
+                Path(path).exists():
+            self.watcher.addPath(path)
+
+    def close(self):
+        """No more polling; the folder's lock given back, the document no longer followed."""
+        if self.timer is not None:
+            self.timer.stop()
+        if self.watcher is not None:
+            self.watcher.deleteLater()
+            self.watcher = None
+        self.link.close()
+        self.scanner.close()

@@ -1,0 +1,61 @@
+"""Run scan's playback: the layout scanned as headless runs do (``scanning``), then animated
+(``ScanAnimation``) with its task panel, a slow scan's jabs and sweeps after (SPEC §13), and the
+results dialogs once the animation reaches the end."""
+
+from __future__ import annotations
+
+from . import preferences
+from .dialogs import show_results_dialogs
+from .scanning import scan_and_store
+from .session import check_no_other_task_panel, report, session, show_task_panel
+
+__all__ = ["run_scan", "play_scan"]
+
+
+def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_s=None):
+    """Scan the document (as headless runs do) and animate the scan, with its task panel; the
+    results table and the slot code open when the animation reaches the end. The animation
+    lasts the preferences' playback time, unless ``duration_s`` or ``steps_per_frame`` (frames
+    as fast as the machine draws them) is given."""
+    if panel:
+        check_no_other_task_panel()
+    scene, result = scan_and_store(doc)
+    if not result.layout.wafers:
+        report(f"No wafer in {doc.Label} is tagged, so every slot reads empty. Select the "
+               "wafers and use Tag as wafer, then Run scan again.")
+    return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s, scene)
+
+
+def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
+              duration_s=None, scene=None):
+    """Animate ``result`` (a scan of ``doc``), with its task panel unless ``panel`` is False.
+    ``scene``: the DocumentScene the scan read, unchanged since (None: read the document)."""
+    from .animation import ScanAnimation
+    from .scan_panel import ScanTaskPanel
+
+    previous = session.animation
+    if previous is not None:
+        previous.stop()
+    if steps_per_frame is None and duration_s is None:
+        duration_s = preferences.playback_seconds()
+    animation = ScanAnimation(doc, result, steps_per_frame or 10, duration_s, scene)
+    session.animation = animation
+    # The animation showed this result: its dialogs show it too.
+    on_completed = (lambda: show_results_dialogs(doc, result=result)) if show_results else None
+    if result.pockets:  # SPEC §13: then the jabs and sweeps, pocket by pocket
+        from .pocket_animation import then_pockets
+
+        on_completed = then_pockets(doc, result, on_completed, show_task_panel if panel
+                                    else None, session)
+    if panel:
+        def replay(seconds):
+            if scan_panel.settings_changed:  # settings edited in the panel: scan with them
+                run_scan(doc, show_results=show_results, duration_s=seconds)
+            else:
+                play_scan(doc, result, show_results=show_results, duration_s=seconds)
+        scan_panel = ScanTaskPanel(animation, on_completed, replay)
+        show_task_panel(scan_panel)
+    elif on_completed is not None:
+        animation.finished.connect(lambda: animation.completed and on_completed())
+    animation.play()
+    return animation
