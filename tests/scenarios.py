@@ -7,7 +7,7 @@ from pathlib import Path
 
 __all__ = [
     "ROOT", "EXAMPLES", "PAPER", "PAPER_TEXT", "PAPER_CODE", "PAPER_E87", "SLOW_JAB",
-    "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "with_lines", "one_carrier",
+    "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "drifted_paper", "with_lines", "one_carrier",
     "uniform", "normal", "SWEEP_TOLERANCES",
 ]
 
@@ -37,6 +37,16 @@ def paper_with(folder, old, new, name="s.toml"):
     path = Path(folder) / name
     path.write_text(PAPER_TEXT.replace(old, new, 1))
     return path
+
+
+def drifted_paper(load, offset=0.3, pitch=10.02, z_step=0.05):
+    """The paper's scenario text with its carrier built ``offset`` mm above the taught slot-1
+    seat (293.94 mm) at a real ``pitch`` (taught 10.0 mm), loaded with ``load``: what
+    calibration finds."""
+    return (PAPER_TEXT.replace("first_slot_z = 293.94", f"first_slot_z = {293.94 + offset!r}")
+            .replace("pitch = 10.0\n", f"pitch = {pitch!r}\n")
+            .replace(f'load = "{PAPER_CODE}"', f'load = "{load}"')
+            .replace("z_step = 0.05", f"z_step = {z_step!r}"))
 
 
 def with_lines(text, table, *lines):
@@ -73,6 +83,18 @@ wafer_diameter = 300.0
 wafer_thickness = {thickness!r}
 load = "{load}"
 {extra}"""
+
+
+def free_wafer(name, y, z, thickness=0.7):
+    """A [[wafer]] table: a level 300 mm wafer of no carrier, its centre at (0, ``y``, ``z``)."""
+    return f"""
+[[wafer]]
+name = "{name}"
+center = [0.0, {y!r}, {z!r}]
+normal = [0.0, 0.0, 1.0]
+diameter = 300.0
+thickness = {thickness!r}
+"""
 
 
 # --- Tolerance files (TOL.toml, SPEC §12) -----------------------------------------------------
