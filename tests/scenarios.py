@@ -1,14 +1,15 @@
 """The scenarios the tests start from, written once: where the examples lie (the paper's above
 all) and what the paper's scan reads, the paper's text with a line changed or added, a small
-one-carrier scenario like the paper's, and the tables of a tolerance file (TOL.toml)."""
+one-carrier scenario like the paper's and its free wafers, and the tables of a tolerance file
+(TOL.toml)."""
 
 import re
 from pathlib import Path
 
 __all__ = [
     "ROOT", "EXAMPLES", "PAPER", "PAPER_TEXT", "PAPER_CODE", "PAPER_E87", "SLOW_JAB",
-    "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "drifted_paper", "with_lines", "one_carrier",
-    "uniform", "normal", "SWEEP_TOLERANCES",
+    "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "drifted_paper", "with_lines",
+    "one_carrier", "free_wafer", "uniform", "normal", "SWEEP_TOLERANCES",
 ]
 
 ROOT = Path(__file__).resolve().parent.parent
