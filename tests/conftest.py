@@ -1,6 +1,7 @@
-"""Shared test set-up: the tests folder on sys.path (for the random-layout generator) and the
-repository root. Hypothesis runs derandomised, so that every run (CI's too) tries the same
-cases and can be repeated; HYPOTHESIS_PROFILE=explore draws new ones, to look for bugs."""
+"""Shared test set-up: the tests folder on sys.path (for the modules the tests share:
+scenarios, commands, figures, random_layouts, sensor_layouts) and the repository root.
+Hypothesis runs derandomised, so that every run (CI's too) tries the same cases and can be
+repeated; HYPOTHESIS_PROFILE=explore draws new ones, to look for bugs."""
 
 import os
 import signal

@@ -8,14 +8,14 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from commands import waferscan
 from processes import RUN_VARIABLE, run_in_own_group
+from scenarios import PAPER
+from scenarios import ROOT as REPO
 
-REPO = Path(__file__).resolve().parents[2]
-PAPER = REPO / "resources" / "examples" / "paper.toml"
 FREECADCMD = shutil.which("freecadcmd")
 FREECAD = shutil.which("freecad")
 GIT = shutil.which("git")
@@ -151,9 +151,8 @@ def test_a_robotless_scenario_scans_as_in_the_venv(installed):
     # The slot code is the carrier's load string: what was built is what is mapped.
     assert ours["code"] == _load_string()
     # The same scan by the project's own set-up (the venv, with pinocchio): the same runs.
-    reference = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan",
-                                str(installed["robotless"]), "--json"], cwd=REPO,
-                               capture_output=True, text=True, timeout=300, check=True)
+    reference = waferscan("scan", installed["robotless"], "--json")
+    reference.check_returncode()
     assert ours["runs"] == json.loads(reference.stdout)["runs"]
 
 

@@ -26,15 +26,28 @@ def paper_layout_read():
 
 
 @pytest.fixture
-def paper_doc(paper_layout_read):
-    """A fresh FreeCAD document of the paper's layout, closed after the test (unless the test
-    closed it)."""
+def built():
+    """``built(layout, name)``: a fresh FreeCAD document of ``layout``, closed after the test
+    (unless the test closed it)."""
     import FreeCAD as App
 
     from waferscan.cad.builder import build_document
 
-    doc = build_document(paper_layout_read, "PaperTest")
-    name = doc.Name
-    yield doc
-    if name in App.listDocuments():
-        App.closeDocument(name)
+    names = []
+
+    def build(layout, name):
+        doc = build_document(layout, name)
+        names.append(doc.Name)
+        return doc
+
+    yield build
+    for name in names:
+        if name in App.listDocuments():
+            App.closeDocument(name)
+
+
+@pytest.fixture
+def paper_doc(paper_layout_read, built):
+    """A fresh FreeCAD document of the paper's layout, closed after the test (unless the test
+    closed it)."""
+    return built(paper_layout_read, "PaperTest")

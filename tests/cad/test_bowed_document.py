@@ -30,12 +30,8 @@ def bowed_paper(bows=BOWS):
 
 
 @pytest.fixture
-def doc():
-    made = build_document(bowed_paper(), "BowDrawn")
-    name = made.Name
-    yield made
-    if name in App.listDocuments():  # unless the test closed it
-        App.closeDocument(name)
+def doc(built):
+    return built(bowed_paper(), "BowDrawn")
 
 
 def along_axis(shape, point, direction, reach=5.0):

@@ -2,17 +2,12 @@
 recipe printed and written (atomically, accepted as-is by `waferscan scan --params` and the
 link), the exit status of each failure, and results.txt of a CAL."""
 
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
+from commands import waferscan as run
+from scenarios import ROOT, drifted_paper
 
 from waferscan.core.files.mcs import parse_parameters
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER_TEXT = (ROOT / "resources" / "examples" / "paper.toml").read_text()
-CLI = [sys.executable, "-m", "waferscan.cli"]
 LOAD = "1100100001000010000100011"
 TAUGHT = "first_slot_z = 293.94\nslot_pitch = 10.0\n"
 
@@ -20,15 +15,8 @@ TAUGHT = "first_slot_z = 293.94\nslot_pitch = 10.0\n"
 def scenario(folder, load=LOAD, name="drifted.toml"):
     """The paper's carrier with its slot 1 0.3 mm above the taught seat and a 10.02 mm pitch."""
     path = folder / name
-    path.write_text(PAPER_TEXT.replace("first_slot_z = 293.94", "first_slot_z = 294.24")
-                    .replace("pitch = 10.0\n", "pitch = 10.02\n")
-                    .replace('load = "1101221001220001010000010"', f'load = "{load}"'))
+    path.write_text(drifted_paper(load))
     return path
-
-
-def run(*args):
-    return subprocess.run([*CLI, *map(str, args)], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300)
 
 
 def header(text):

@@ -3,20 +3,16 @@ crosscheck, and batch runs in freecadcmd whose exit status is the run's."""
 
 import json
 import os
-import subprocess
-import sys
-from pathlib import Path
 
+import commands
 import pytest
-
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
-CODE = "1101221001220001010000010"
+from commands import freecadcmd
+from scenarios import PAPER
+from scenarios import PAPER_CODE as CODE
 
 
 def waferscan(*args, check=True):
-    done = subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
+    done = commands.waferscan(*args)
     if check:
         assert done.returncode == 0, done.stderr
     return done
@@ -88,11 +84,6 @@ def test_scan_refuses_settings_typed_wrong_in_a_saved_layout(paper_layout, tmp_p
                           f"start_z (280)\n"
 
 
-def freecadcmd(code):
-    return subprocess.run(["freecadcmd", "-c", code], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300)
-
-
 def test_batch_run_in_freecadcmd(paper_layout):
     """The documented batch run (docs/reference/command-line.md): the JSON on stdout is clean,
     the exit status is the run's."""
@@ -132,8 +123,7 @@ def test_the_console_script_leaves_no_cache_folder_behind(paper_layout, tmp_path
     env = dict(os.environ, FREECAD_USER_HOME=str(home))
     for args in (["scan", paper_layout], ["layout", PAPER, "-o", tmp_path / "x.FCStd"],
                  ["scan", PAPER]):
-        done = subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)],
-                              cwd=ROOT, capture_output=True, text=True, timeout=300, env=env)
+        done = commands.waferscan(*args, env=env)
         assert done.returncode == 0, done.stderr
     left = list(home.rglob("FreeCAD_Doc_*"))
     assert left == []

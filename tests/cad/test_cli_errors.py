@@ -2,24 +2,15 @@
 naming the file and line; options are honoured; files already there are never half-written."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
+from commands import waferscan
+from scenarios import PAPER
+from scenarios import PAPER_CODE as CODE
+from scenarios import PAPER_E87 as E87
 
 from waferscan.core.files.mcs import apply_parameters, read_parameters, used_parameters
 from waferscan.core.files.scenario import read_scenario
-
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
-CODE = "1101221001220001010000010"
-E87 = "3313553113551113131111131"
-
-
-def waferscan(*args):
-    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
 
 
 def assert_input_error(done, prefix):

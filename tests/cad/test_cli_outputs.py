@@ -11,16 +11,9 @@ import sys
 from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = ROOT / "resources" / "examples"
-PAPER = EXAMPLES / "paper.toml"
-CLI = [sys.executable, "-m", "waferscan.cli"]
-
-
-def run(*args, cwd=None, timeout=300):
-    return subprocess.run([*CLI, *map(str, args)], cwd=cwd or ROOT, capture_output=True,
-                          text=True, timeout=timeout)
+from commands import CLI
+from commands import waferscan as run
+from scenarios import EXAMPLES, PAPER, ROOT
 
 
 def one_error_line(done, text):

@@ -9,6 +9,7 @@ import FreeCAD as App
 import Part
 import pytest
 from random_layouts import random_layout
+from scenarios import PAPER_CODE
 
 from waferscan.addon import paper_scenario
 from waferscan.cad import roles
@@ -133,9 +134,6 @@ def test_moving_the_carrier_assembly_moves_its_slots_and_wafers(paper_doc):
     read = read_layout(paper_doc)
     assert read.scanned_carrier.first_slot_z == pytest.approx(303.94)
     assert scan_document(paper_doc).code == PAPER_CODE
-
-
-PAPER_CODE = "1101221001220001010000010"
 
 
 def test_nested_parts_and_links(paper_doc):

@@ -3,28 +3,11 @@ with grazing edges, a [robot] that contradicts [sensor], warnings on stderr, in 
 results.txt, JSON wafers in the input's order, and demo --engine paper."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
-CODE = "1101221001220001010000010"
-
-
-def waferscan(*args):
-    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
-
-
-def paper_with(tmp_path, name, old, new):
-    text = PAPER.read_text()
-    assert old in text
-    path = tmp_path / name
-    path.write_text(text.replace(old, new, 1))
-    return path
+from commands import waferscan
+from scenarios import PAPER, paper_with
+from scenarios import PAPER_CODE as CODE
 
 
 def line_of(path, start):
@@ -36,8 +19,8 @@ def line_of(path, start):
 
 def test_crosscheck_confirms_a_scan_with_sensor_lag(tmp_path):
     # 100 mm/s x 2 ms: every IN and OUT latched 0.2 mm above where the beam was blocked.
-    lagged = paper_with(tmp_path, "lag.toml", 'direction = "up"',
-                        'direction = "up"\nscan_speed = 100.0\nsensor_response = 0.002')
+    lagged = paper_with(tmp_path, 'direction = "up"',
+                        'direction = "up"\nscan_speed = 100.0\nsensor_response = 0.002', "lag.toml")
     scan = json.loads(waferscan("scan", lagged, "--json").stdout)
     exact = json.loads(waferscan("scan", PAPER, "--json").stdout)
     for mine, theirs in zip(scan["runs"], exact["runs"]):
@@ -111,7 +94,6 @@ def test_crosscheck_keeps_a_micrometre_where_the_beam_meets_wafers_squarely():
 
 
 def test_a_square_edge_off_by_two_micrometres_is_not_confirmed():
-    sys.path.insert(0, "/usr/lib/freecad-python3/lib")
     from waferscan.cad.crosscheck import EdgeCheck
 
     assert not EdgeCheck("W", (300.0, 300.7), (300.0 - 2e-6, 300.7), (1e-7, 1e-7)).ok
@@ -121,7 +103,7 @@ def test_a_square_edge_off_by_two_micrometres_is_not_confirmed():
 # --- a [robot] that contradicts [sensor] ----------------------------------------------------
 
 def test_a_robot_refuses_a_different_beam_length(tmp_path):
-    path = paper_with(tmp_path, "long.toml", "length = 160.0", "length = 180.0")
+    path = paper_with(tmp_path, "length = 160.0", "length = 180.0", "long.toml")
     done = waferscan("scan", path)
     assert done.returncode == 2 and done.stdout == ""
     assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
@@ -130,8 +112,8 @@ def test_a_robot_refuses_a_different_beam_length(tmp_path):
 
 
 def test_a_robot_refuses_a_lift_axis_it_does_not_have(tmp_path):
-    path = paper_with(tmp_path, "tilted.toml", "length = 160.0",
-                      "length = 160.0\nlift_axis = [0, 0.05, 1]")
+    path = paper_with(tmp_path, "length = 160.0",
+                      "length = 160.0\nlift_axis = [0, 0.05, 1]", "tilted.toml")
     done = waferscan("scan", path)
     assert done.returncode == 2 and done.stdout == ""
     assert done.stderr.startswith(f"waferscan: error: {path}:{line_of(path, 'lift_axis')}: ")
@@ -156,7 +138,7 @@ def test_without_a_robot_the_lift_axis_is_used(tmp_path):
 # --- warnings and unscanned slots through the command line ------------------------------------
 
 def test_a_short_coarse_scan_warns_on_stderr_in_json_and_in_results_txt(tmp_path):
-    path = paper_with(tmp_path, "short.toml", "final_z = 550.0", "final_z = 450.0")
+    path = paper_with(tmp_path, "final_z = 550.0", "final_z = 450.0", "short.toml")
     path.write_text(path.read_text().replace("z_step = 0.05", "z_step = 2.0"))
     out = tmp_path / "results.txt"
     done = waferscan("scan", path, "--json", "--out", out)
@@ -258,7 +240,6 @@ def test_crosscheck_confirms_random_layouts_with_grazing_edges():
 
     import FreeCAD as App
 
-    sys.path.insert(0, str(ROOT / "tests"))
     from random_layouts import random_layout
 
     from waferscan.cad.builder import build_document

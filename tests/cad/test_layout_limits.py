@@ -6,6 +6,8 @@ import math
 
 import FreeCAD as App
 import pytest
+from commands import waferscan as cli
+from scenarios import paper_with
 
 from waferscan.addon import paper_scenario
 from waferscan.cad.builder import build_document
@@ -15,7 +17,6 @@ from waferscan.core.files.mcs import apply_parameters, parse_parameters
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-PAPER_TEXT = paper_scenario().read_text()
 PAPER = read_scenario(paper_scenario())
 
 
@@ -57,19 +58,13 @@ def test_scanner_properties_are_checked(paper_doc, prop, value, message):
     assert f"{scanner.Label}{message}" in str(caught.value)
 
 
-def scenario(tmp_path, old, new):
-    assert old in PAPER_TEXT
-    path = tmp_path / "s.toml"
-    path.write_text(PAPER_TEXT.replace(old, new, 1))
-    return path
-
-
 def line_of(path, text):
     return next(n for n, line in enumerate(path.read_text().split("\n"), 1) if text in line)
 
 
 def test_scenario_overflowing_lag_is_bad_input(tmp_path):
-    path = scenario(tmp_path, "[scan]\n", "[scan]\nscan_speed = 1e200\nsensor_response = 1e200\n")
+    path = paper_with(tmp_path, "[scan]\n",
+                      "[scan]\nscan_speed = 1e200\nsensor_response = 1e200\n")
     with pytest.raises(InputError) as caught:
         read_scenario(path)
     assert caught.value.line == line_of(path, "sensor_response = 1e200")
@@ -78,7 +73,7 @@ def test_scenario_overflowing_lag_is_bad_input(tmp_path):
 
 
 def test_scenario_base_yaw_is_bounded(tmp_path):
-    path = scenario(tmp_path, "base_yaw = 0.0", "base_yaw = 1e308")
+    path = paper_with(tmp_path, "base_yaw = 0.0", "base_yaw = 1e308")
     with pytest.raises(InputError) as caught:
         read_scenario(path)
     assert caught.value.line == line_of(path, "base_yaw")
@@ -109,21 +104,12 @@ def test_a_valid_layout_still_scans(paper_doc):
 
 def test_a_urdf_that_is_not_urdf_is_bad_input(tmp_path):
     (tmp_path / "robot.urdf").write_text("not xml at all\n")
-    path = scenario(tmp_path, "base_yaw = 0.0", 'base_yaw = 0.0\nurdf = "robot.urdf"')
+    path = paper_with(tmp_path, "base_yaw = 0.0", 'base_yaw = 0.0\nurdf = "robot.urdf"')
     with pytest.raises(InputError) as caught:
         build_document(read_scenario(path), "BadUrdf")
     assert str(caught.value).startswith(f"{tmp_path / 'robot.urdf'}: not a URDF robot WaferScan "
                                         "can move (The file")
     assert "\n" not in str(caught.value)
-
-
-def cli(*args):
-    import subprocess
-    import sys
-    from pathlib import Path
-    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)],
-                          cwd=Path(__file__).resolve().parents[2], capture_output=True,
-                          text=True, timeout=300)
 
 
 def test_the_command_line_refuses_overflows_with_exit_2(tmp_path):
@@ -133,7 +119,7 @@ def test_the_command_line_refuses_overflows_with_exit_2(tmp_path):
     assert (done.returncode, done.stderr) == (2, (
         f"waferscan: error: {params}:2: sensor_response: scan_speed 1e+200 mm/s × "
         "sensor_response 1e+200 s makes the sensor latch inf mm late; at most 100,000 mm\n"))
-    bad = scenario(tmp_path, "base_yaw = 0.0", "base_yaw = 1e308")
+    bad = paper_with(tmp_path, "base_yaw = 0.0", "base_yaw = 1e308")
     expected = f"waferscan: error: {bad}:{line_of(bad, 'base_yaw')}: [robot] base_yaw: must " \
                "be within ±360 degrees, got 1e+308\n"
     for args in (("crosscheck", bad), ("watch", tmp_path, "--layout", bad, "--once")):

@@ -2,10 +2,9 @@
 version of its proxy's properties, and opening a document runs the migrations it needs
 (features._Proxy, freecad.gears' pattern)."""
 
-from pathlib import Path
-
 import FreeCAD as App
 import pytest
+from scenarios import PAPER
 
 from waferscan.cad import features
 from waferscan.cad.builder import build_document
@@ -13,7 +12,6 @@ from waferscan.cad.document_scan import scan_document
 from waferscan.cad.layout_files import save_document
 from waferscan.core.files.scenario import read_scenario
 
-PAPER = Path(__file__).resolve().parents[2] / "resources" / "examples" / "paper.toml"
 PROXIES = (features.CarrierBody, features.ScannerBeam, features.ScanSettings)
 
 

@@ -2,45 +2,22 @@
 chosen pockets seen from above under the signal plot, in the venv and inside FreeCAD; the beams
 drawn where the hand computation puts them on resources/examples/slow_jab.toml."""
 
-import struct
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
+from commands import cli_in_freecad, freecadcmd, waferscan
+from figures import pocket_panels, png_size
+from scenarios import SLOW_JAB
 
 from waferscan.cli import paper_scenario
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLE = ROOT / "resources" / "examples" / "slow_jab.toml"
-RESULT = scan_layout(read_scenario(EXAMPLE))
-
-
-def png_size(path):
-    """(width, height) in pixels, from the PNG's IHDR."""
-    data = Path(path).read_bytes()
-    assert data.startswith(b"\x89PNG\r\n\x1a\n")
-    return struct.unpack(">II", data[16:24])
+RESULT = scan_layout(read_scenario(SLOW_JAB))
 
 
 def test_the_panels_draw_the_beams_where_they_met_the_wafer():
-    import warnings
+    from waferscan.plots.pockets import BEAM_STYLES
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    with warnings.catch_warnings():  # Debian's mpl_toolkits beside PyPI's: no 3D plots here
-        warnings.simplefilter("ignore", UserWarning)
-        import matplotlib.pyplot as plt
-
-    from waferscan.plots.pockets import BEAM_STYLES, draw_pockets
-
-    figure = plt.figure()
-    drawn = []
-    try:
-        axes = draw_pockets(figure, figure.add_gridspec(1, 1)[0, 0], RESULT, drawn)
+    with pocket_panels(RESULT) as (axes, drawn):
         assert [a.get_title().split("\n")[0] for a in axes] == [
             "slot 3 at Z 314.290 mm", "slot 8 at Z 364.290 mm", "slot 1 at Z 294.290 mm",
             "slot 2 at Z 304.290 mm"]
@@ -56,17 +33,13 @@ def test_the_panels_draw_the_beams_where_they_met_the_wafer():
         circles = [(p.center, p.radius) for p in slot8.patches]
         assert circles[0][0] == pytest.approx((0.0, 0.0)) and circles[0][1] == 150.0  # seated
         assert circles[1][0] == pytest.approx((0.0, -5.0))                           # the wafer
-    finally:
-        plt.close(figure)
     assert (8, "contact", "front 5.000 mm") in drawn
     assert (3, "contact", "-33.022°") in drawn and (3, "wafer", "shifted") in drawn
 
 
 def test_the_command_line_adds_the_panels_to_a_slow_scans_plot(tmp_path):
-    for scenario, name in ((EXAMPLE, "slow.png"), (paper_scenario(), "fast.png")):
-        done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(scenario),
-                               "--plot", str(tmp_path / name)], cwd=ROOT, capture_output=True,
-                              text=True, timeout=300)
+    for scenario, name in ((SLOW_JAB, "slow.png"), (paper_scenario(), "fast.png")):
+        done = waferscan("scan", scenario, "--plot", tmp_path / name)
         assert done.returncode == 0, done.stderr
     # 110 dpi: 11 x 6.5 in without pockets, 3.8 in taller with their row.
     assert png_size(tmp_path / "fast.png") == (1210, 715)
@@ -76,8 +49,5 @@ def test_the_command_line_adds_the_panels_to_a_slow_scans_plot(tmp_path):
 def test_the_panels_inside_freecad(tmp_path):
     # Debian's matplotlib inside FreeCAD draws them too.
     target = tmp_path / "fc.png"
-    code = (f"import sys; sys.path.insert(0, {str(ROOT)!r}); import waferscan.cli as c; "
-            f"c.main(['scan', {str(EXAMPLE)!r}, '--plot', {str(target)!r}])")
-    done = subprocess.run(["freecadcmd", "-c", code], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300)
+    done = freecadcmd(cli_in_freecad("scan", SLOW_JAB, "--plot", target))
     assert png_size(target) == (1210, 1133), done.stdout + done.stderr

@@ -2,34 +2,22 @@
 the wafer, on the tine's circle about the wrist (resources/examples/slow_jab.toml)."""
 
 import math
-from pathlib import Path
 
 import pytest
+from figures import pocket_panels
+from scenarios import SLOW_JAB
 
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "resources" / "examples" / "slow_jab.toml"
-RESULT = scan_layout(read_scenario(EXAMPLE))
+RESULT = scan_layout(read_scenario(SLOW_JAB))
 WRIST = (0.0, 240.0 + 26.6 - 400.0 - 260.0)  # 260 mm behind the deepest beam, from above
 
 
 def test_the_panels_mark_each_tines_path_inside_the_wafer():
-    import warnings
+    from waferscan.plots.pockets import STRIKE
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    with warnings.catch_warnings():  # Debian's mpl_toolkits beside PyPI's: no 3D plots here
-        warnings.simplefilter("ignore", UserWarning)
-        import matplotlib.pyplot as plt
-
-    from waferscan.plots.pockets import STRIKE, draw_pockets
-
-    figure = plt.figure()
-    drawn = []
-    try:
-        axes = draw_pockets(figure, figure.add_gridspec(1, 1)[0, 0], RESULT, drawn)
+    with pocket_panels(RESULT) as (axes, drawn):
         slot8 = axes[1]  # the wafer pushed 5 mm out: centre (0, -5)
         arcs = [(list(l.get_xdata()), list(l.get_ydata())) for l in slot8.get_lines()
                 if l.get_color() == STRIKE]
@@ -41,7 +29,5 @@ def test_the_panels_mark_each_tines_path_inside_the_wafer():
             assert all(math.dist(p, (0.0, -5.0)) <= 150.0 + 1e-6 for p in points)
         # The emitter's tine (left) swings right across the front, the receiver's left.
         assert arcs[0][0][0] > 0.0 > arcs[0][0][-1] and arcs[1][0][0] > 0.0 > arcs[1][0][-1]
-    finally:
-        plt.close(figure)
     assert (8, "strike", "emitter tine in the wafer -33.845° to -0.360°") in drawn
     assert (8, "strike", "receiver tine in the wafer +0.360° to +33.845°") in drawn

@@ -3,13 +3,11 @@ and reload, a bad value names the object and property, a document without it jud
 and a layout scans with it from the command line."""
 
 import json
-import subprocess
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import FreeCAD as App
 import pytest
+from commands import waferscan
 
 from waferscan.addon import paper_scenario
 from waferscan.cad.builder import build_document
@@ -20,7 +18,6 @@ from waferscan.core.errors import InputError
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import MappingTolerances
 
-ROOT = Path(__file__).resolve().parents[2]
 PAPER = replace(read_scenario(paper_scenario()), robot=None)
 RECIPE = {"thickness_min": 0.5, "thickness_max": 0.9, "double_threshold": 2.0,
           "position_below": 0.25, "position_above": 0.75, "rules": "boundary",
@@ -29,12 +26,8 @@ WITH_RECIPE = replace(PAPER, mapping=replace(PAPER.mapping, **RECIPE))
 
 
 @pytest.fixture
-def doc():
-    document = build_document(WITH_RECIPE, "RecipeTest")
-    name = document.Name
-    yield document
-    if name in App.listDocuments():
-        App.closeDocument(name)
+def doc(built):
+    return built(WITH_RECIPE, "RecipeTest")
 
 
 def test_the_settings_object_carries_the_recipe_and_it_reads_back(doc, tmp_path):
@@ -100,8 +93,7 @@ def test_cli_scans_a_layout_with_its_recipe(tmp_path):
         document.saveAs(str(path))
     finally:
         App.closeDocument(document.Name)
-    done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(path), "--json"],
-                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    done = waferscan("scan", path, "--json")
     assert done.returncode == 0, done.stderr
     params = json.loads(done.stdout)["params"]
     assert {k: params[k] for k in RECIPE} == RECIPE

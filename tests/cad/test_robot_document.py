@@ -6,10 +6,10 @@ from dataclasses import replace
 import FreeCAD as App
 import numpy as np
 import pytest
+from scenarios import PAPER_CODE as CODE
 
 from waferscan.addon import paper_scenario
 from waferscan.cad import roles
-from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
 from waferscan.cad.reader import DocumentScene, read_layout
 from waferscan.cad.robot import RobotMover
@@ -19,17 +19,12 @@ from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.robot.kinematics import WaferRobot
 
 PAPER = read_scenario(paper_scenario())
-CODE = "1101221001220001010000010"
 
 
 @pytest.fixture
-def robot_doc():
+def robot_doc(built):
     layout = PAPER if PAPER.robot is not None else replace(PAPER, robot=RobotSpec())
-    doc = build_document(layout, "RobotTest")
-    name = doc.Name
-    yield doc, layout
-    if name in App.listDocuments():
-        App.closeDocument(name)
+    return built(layout, "RobotTest"), layout
 
 
 def robot_part(doc):

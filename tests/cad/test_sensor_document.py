@@ -3,13 +3,12 @@ they survive save and reload, a bad value names the object and property, and the
 line scans with them."""
 
 import json
-import subprocess
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import FreeCAD as App
 import pytest
+from commands import waferscan
+from scenarios import PAPER_TEXT, with_lines
 
 from waferscan.addon import paper_scenario
 from waferscan.cad.builder import build_document
@@ -20,7 +19,6 @@ from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
-ROOT = Path(__file__).resolve().parents[2]
 PAPER = read_scenario(paper_scenario())
 SENSED = replace(PAPER.with_scan(latch="sampled", acceleration=2500.0, sample_period=0.0005,
                                  scan_speed=200.0, sensor_response=250e-6),
@@ -28,12 +26,8 @@ SENSED = replace(PAPER.with_scan(latch="sampled", acceleration=2500.0, sample_pe
 
 
 @pytest.fixture
-def doc():
-    document = build_document(SENSED, "SensorTest")
-    name = document.Name
-    yield document
-    if name in App.listDocuments():
-        App.closeDocument(name)
+def doc(built):
+    return built(SENSED, "SensorTest")
 
 
 def test_the_settings_object_carries_the_sensor_in_units(doc, tmp_path):
@@ -85,25 +79,22 @@ def test_an_ideal_document_reads_as_before(tmp_path):
 
 def test_cli_scan_with_a_spot_and_its_errors(tmp_path):
     scenario = tmp_path / "spot.toml"
-    text = (ROOT / "resources" / "examples" / "paper.toml").read_text()
-    scenario.write_text(text.replace("[sensor]\n", "[sensor]\nspot_diameter = 1.0\n", 1))
-    env_cmd = [sys.executable, "-m", "waferscan.cli", "scan", str(scenario), "--json"]
-    done = subprocess.run(env_cmd, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    text = PAPER_TEXT
+    scenario.write_text(with_lines(text, "sensor", "spot_diameter = 1.0"))
+    done = waferscan("scan", scenario, "--json")
     assert done.returncode == 0, done.stderr
     data = json.loads(done.stdout)
     assert data["code"] == "1101221001220001010000010"
     assert data["params"]["spot_diameter"] == 1.0
     assert [e["edge"] for e in data["edges"][:2]] == ["on", "off"]
     bad = tmp_path / "bad.toml"
-    bad.write_text(text.replace("[sensor]\n", "[sensor]\nthreshold_on = 2\n", 1))
-    done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(bad)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
+    bad.write_text(with_lines(text, "sensor", "threshold_on = 2"))
+    done = waferscan("scan", bad)
     line = text.splitlines().index("[sensor]") + 2
     assert done.returncode == 2
     assert done.stderr.startswith(f"waferscan: error: {bad}:{line}: [sensor] threshold_on: ")
     assert "Traceback" not in done.stderr
-    done = subprocess.run(env_cmd + ["--engine", "loop"], cwd=ROOT, capture_output=True,
-                          text=True, timeout=300)
+    done = waferscan("scan", scenario, "--json", "--engine", "loop")
     assert done.returncode == 2 and "analytic engine only" in done.stderr
 
 

@@ -2,12 +2,12 @@
 (PyPI's matplotlib) and inside FreeCAD (Debian's), its samples are the model's b(z), and a
 wrong suffix is bad input."""
 
-import subprocess
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
+from commands import cli_in_freecad, freecadcmd, waferscan
+from figures import PNG_SIGNATURE
+from scenarios import paper_with
 
 from waferscan.cli import paper_scenario
 from waferscan.core.files.scenario import read_scenario
@@ -15,22 +15,15 @@ from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.spot import BeamSpot, BlockedFraction
 from waferscan.plots.signal import signal_samples
 
-ROOT = Path(__file__).resolve().parents[2]
-
 
 def spot_scenario(tmp_path):
-    text = (ROOT / "resources" / "examples" / "paper.toml").read_text()
-    path = tmp_path / "spot.toml"
-    path.write_text(text.replace("[sensor]\n", "[sensor]\nspot_diameter = 1.0\n", 1))
-    return path
+    return paper_with(tmp_path, "[sensor]\n", "[sensor]\nspot_diameter = 1.0\n", "spot.toml")
 
 
 def test_plot_files_from_the_venv(tmp_path):
     scenario = spot_scenario(tmp_path)
-    for name, head in (("s.png", b"\x89PNG\r\n\x1a\n"), ("s.svg", b"<?xml")):
-        done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(scenario),
-                               "--plot", str(tmp_path / name)], cwd=ROOT, capture_output=True,
-                              timeout=300)
+    for name, head in (("s.png", PNG_SIGNATURE), ("s.svg", b"<?xml")):
+        done = waferscan("scan", scenario, "--plot", tmp_path / name)
         assert done.returncode == 0, done.stderr
         data = (tmp_path / name).read_bytes()
         assert data.startswith(head) and len(data) > 10_000
@@ -39,9 +32,7 @@ def test_plot_files_from_the_venv(tmp_path):
 
 
 def test_a_plot_without_png_or_svg_is_bad_input(tmp_path):
-    done = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan",
-                           str(spot_scenario(tmp_path)), "--plot", str(tmp_path / "s.pdf")],
-                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    done = waferscan("scan", spot_scenario(tmp_path), "--plot", tmp_path / "s.pdf")
     assert done.returncode == 2
     assert done.stderr.startswith(f"waferscan: error: {tmp_path / 's.pdf'}: --plot writes .png")
     assert not (tmp_path / "s.pdf").exists()
@@ -50,10 +41,7 @@ def test_a_plot_without_png_or_svg_is_bad_input(tmp_path):
 def test_plot_inside_freecad(tmp_path):
     scenario = spot_scenario(tmp_path)
     target = tmp_path / "fc.png"
-    code = (f"import sys; sys.path.insert(0, {str(ROOT)!r}); import waferscan.cli as c; "
-            f"c.main(['scan', {str(scenario)!r}, '--plot', {str(target)!r}])")
-    done = subprocess.run(["freecadcmd", "-c", code], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300)
+    done = freecadcmd(cli_in_freecad("scan", scenario, "--plot", target))
     assert target.read_bytes().startswith(b"\x89PNG"), done.stdout + done.stderr
 
 

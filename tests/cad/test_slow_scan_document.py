@@ -3,13 +3,14 @@
 the document is the analytic one, and the document engine agrees with the closed forms."""
 
 import json
-import subprocess
-import sys
 from dataclasses import replace
-from pathlib import Path
+from functools import partial
 
+import commands
 import FreeCAD as App
 import pytest
+from scenarios import PAPER
+from scenarios import SLOW_JAB as EXAMPLE
 
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import mover_for, scan_document
@@ -19,19 +20,12 @@ from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan import slow_scan
 from waferscan.core.scan.layout_scan import scan_layout
 
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLE = ROOT / "resources" / "examples" / "slow_jab.toml"
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
 LAYOUT = read_scenario(EXAMPLE)
 
 
 @pytest.fixture
-def doc():
-    made = build_document(LAYOUT, "SlowScanTest")
-    name = made.Name
-    yield made
-    if name in App.listDocuments():
-        App.closeDocument(name)
+def doc(built):
+    return built(LAYOUT, "SlowScanTest")
 
 
 def _robot_joints(doc):
@@ -127,9 +121,7 @@ def test_a_robot_whose_wrist_is_not_at_sweep_radius_is_refused(doc):
         scan_document(doc, "document")
 
 
-def waferscan(*args, cwd=ROOT):
-    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=cwd,
-                          capture_output=True, text=True, timeout=600)
+waferscan = partial(commands.waferscan, timeout=600)  # slow scans through the command line
 
 
 def test_cli_slow_scan_of_the_paper_with_jab_and_sweep_reports_front_and_sweep(tmp_path):

@@ -2,18 +2,10 @@
 ScanResults spreadsheet the GUI's Run scan writes (cad.results_sheet), saved atomically."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
-CODE = "1101221001220001010000010"
-
-
-def waferscan(*args):
-    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
+from commands import waferscan
+from scenarios import PAPER
+from scenarios import PAPER_CODE as CODE
 
 
 def test_scan_store_saves_the_results_into_the_layout(tmp_path):

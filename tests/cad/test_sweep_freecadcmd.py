@@ -4,16 +4,15 @@ although FreeCAD's Python runs Debian's numpy 1.24 and the venv numpy 2.x."""
 
 import json
 import os
-import subprocess
-from pathlib import Path
+
+from commands import freecadcmd
+from scenarios import EXAMPLES, PAPER, ROOT
 
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core import sweep
 from waferscan.core.sweep.distributions import read_tolerances
 
-REPO = Path(__file__).resolve().parents[2]
-PAPER = REPO / "resources" / "examples" / "paper.toml"
-TOLERANCES = REPO / "resources" / "examples" / "fab_tolerances.toml"
+TOLERANCES = EXAMPLES / "fab_tolerances.toml"
 
 
 def test_sweep_under_freecadcmd_with_two_workers_gives_the_librarys_summary(tmp_path):
@@ -21,9 +20,8 @@ def test_sweep_under_freecadcmd_with_two_workers_gives_the_librarys_summary(tmp_
             "--workers", "2", "--json"]
     script = f"import waferscan.cli as c, sys; sys.exit(c.main({args!r}))"
     env = dict(os.environ, FREECAD_USER_HOME=os.environ.get("FREECAD_USER_HOME",
-                                                            str(REPO / ".fchome")))
-    done = subprocess.run(["freecadcmd", "-c", script], capture_output=True, text=True,
-                          timeout=300, env=env)
+                                                            str(ROOT / ".fchome")))
+    done = freecadcmd(script, env=env)
     assert done.returncode == 0, done.stderr[-2000:]
     summary = json.loads(done.stdout[done.stdout.index("{"):])
     expected = sweep.run_sweep(read_scenario(PAPER), read_tolerances(TOLERANCES), 900, seed=3)

@@ -6,19 +6,17 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import FreeCAD as App
 import pytest
+from commands import CLI
+from scenarios import PAPER, ROOT
+from scenarios import PAPER_CODE as CODE
 
 from waferscan.cad import roles
 from waferscan.cad.layout_files import open_layout
 from waferscan.cad.mcs_watch import document_scanner
 from waferscan.core.files.mcs_link import McsLink
-
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
-CODE = "1101221001220001010000010"
 
 
 @pytest.fixture
@@ -88,8 +86,7 @@ def wait_for_seq(folder, seq, timeout=60.0):
 
 def test_watch_command_end_to_end(tmp_path):
     env = dict(os.environ, PYTHONUNBUFFERED="1")
-    command = [sys.executable, "-m", "waferscan.cli", "watch", str(tmp_path), "--engine",
-               "document", "--poll", "0.05"]
+    command = [*CLI, "watch", str(tmp_path), "--engine", "document", "--poll", "0.05"]
     watcher = subprocess.Popen(command, cwd=ROOT, env=env, stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True)
     commands = tmp_path / "commands.txt"

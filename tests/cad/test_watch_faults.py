@@ -7,6 +7,7 @@ import os
 
 import FreeCAD as App
 import pytest
+from scenarios import PAPER_CODE as CODE
 
 from waferscan.addon import paper_scenario
 from waferscan.cad import mcs_watch
@@ -14,7 +15,6 @@ from waferscan.cad.layout_files import open_layout
 from waferscan.cad.mcs_watch import document_scanner
 from waferscan.core.files.mcs_link import McsLink
 
-CODE = "1101221001220001010000010"
 
 
 @pytest.fixture

@@ -6,18 +6,13 @@ with one line (exit 1); one started second is refused (exit 2). Each test failed
 fix (every seq answered twice, or seq 1 never answered after the reset)."""
 
 import os
-import re
 import shutil
 import signal
 import subprocess
 from pathlib import Path
 
-import sys
-
 import pytest
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_watch_process import results_seq, wait_for, watch  # noqa: E402
+from commands import answered, results_seq, wait_for, watch
 
 COUNT = 200
 LOCK = ".waferscan.lock"
@@ -37,10 +32,6 @@ def append(folder, first, last):
     with open(folder / "commands.txt", "a") as handle:
         handle.write("".join(f"{seq} {'SCF' if seq % 3 else 'SCS'}\n"
                              for seq in range(first, last + 1)))
-
-
-def answered(out):
-    return [int(m) for m in re.findall(r"^seq (\d+) \w+: ", out, re.M)]
 
 
 def end(*processes):

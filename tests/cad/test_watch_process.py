@@ -7,71 +7,12 @@ import os
 import re
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[2]
-CLI = [sys.executable, "-m", "waferscan.cli"]
-
-
-class Watch:
-    """A ``waferscan watch`` process, its stdout and stderr in files (a pipe nobody reads would
-    fill up and block it)."""
-
-    def __init__(self, folder, *args):
-        self.out = (Path(folder).parent / f"watch-{id(self)}.out").open("w+")
-        self.err = (Path(folder).parent / f"watch-{id(self)}.err").open("w+")
-        self.process = subprocess.Popen([*CLI, "watch", str(folder), *map(str, args)],
-                                        cwd=ROOT, stdout=self.out, stderr=self.err, text=True)
-        self.pid = self.process.pid
-
-    def poll(self):
-        return self.process.poll()
-
-    @property
-    def returncode(self):
-        return self.process.returncode
-
-    def send_signal(self, sig):
-        self.process.send_signal(sig)
-
-    def communicate(self, timeout):
-        self.process.wait(timeout)
-        texts = []
-        for handle in (self.out, self.err):
-            handle.seek(0)
-            texts.append(handle.read())
-            handle.close()
-        return tuple(texts)
-
-
-def watch(folder, *args):
-    return Watch(folder, *args)
-
-
-def run_watch(folder, *args):
-    return subprocess.run([*CLI, "watch", str(folder), *map(str, args)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
-
-
-def results_seq(folder):
-    try:
-        match = re.match(r"seq = (\d+)\n", (folder / "results.txt").read_text())
-    except OSError:
-        return None
-    return int(match.group(1)) if match else None
-
-
-def wait_for(predicate, timeout=300.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.05)
-    return False
+from commands import results_seq, run_watch, wait_for, watch
+from scenarios import EXAMPLES
 
 
 @pytest.mark.parametrize("value", ["-1", "nan", "inf", "0", "abc"])
@@ -221,7 +162,7 @@ def test_document_engine_memory_is_flat_for_every_example_layout(tmp_path, layou
     (tmp_path / "parameters.txt").write_text("z_step = 0.5\n")
     (tmp_path / "commands.txt").write_text("")
     process = watch(tmp_path, "--engine", "document", "--poll", "0.002", "--layout",
-                    ROOT / "resources" / "examples" / layout)
+                    EXAMPLES / layout)
     samples = {}
     try:
         for seq in range(1, count + 1):

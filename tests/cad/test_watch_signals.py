@@ -5,21 +5,13 @@ deadlocks the watcher (its handler takes no lock), and no answer is left half-wr
 test failed before the fix."""
 
 import os
-import re
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_watch_process import CLI, ROOT, results_seq, wait_for, watch  # noqa: E402
-
-
-def answered(out):
-    return [int(m) for m in re.findall(r"^seq (\d+) \w+: ", out, re.M)]
+from commands import answered, results_seq, run_watch, wait_for, watch
 
 
 def whole(folder):
@@ -56,8 +48,7 @@ def test_a_stop_ends_the_watcher_after_the_command_in_hand(tmp_path, sig):
     assert len(os.listdir(tmp_path / "history")) == len(done)
     whole(tmp_path)
     # The next watcher carries on where this one stopped.
-    done2 = subprocess.run([*CLI, "watch", str(tmp_path), "--once"], cwd=ROOT,
-                           capture_output=True, text=True, timeout=300)
+    done2 = run_watch(tmp_path, "--once")
     assert done2.returncode == 0 and answered(done2.stdout) == list(range(done[-1] + 1,
                                                                           count + 1))
 

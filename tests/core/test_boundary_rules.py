@@ -8,6 +8,7 @@ warning naming the runs. The truth here is the controller's rule written out on 
 import random
 
 import pytest
+from scenarios import free_wafer, one_carrier
 
 from waferscan.core.files.scenario import parse_scenario
 from waferscan.core.mapping import (
@@ -128,39 +129,10 @@ def test_seated_wafers_of_any_good_thickness_are_present():
 # --- two runs in one slot -------------------------------------------------------------------
 
 def two_wafers_in_slot_2(rules):
-    return parse_scenario(f"""
-[scan]
-start_z = 290.0
-final_z = 330.0
-z_step = 0.05
-[sensor]
-emitter = [-80.0, 266.6, 290.0]
-direction = [1.0, 0.0, 0.0]
-length = 160.0
-[mapping]
-rules = "{rules}"
-[[carrier]]
-name = "A"
-slots = 3
-pitch = 10.0
-first_slot_z = 300.0
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = 0.775
-load = "100"
-[[wafer]]
-name = "seated"
-center = [0.0, 400.0, 310.0]
-normal = [0.0, 0.0, 1.0]
-diameter = 300.0
-thickness = 0.775
-[[wafer]]
-name = "above"
-center = [0.0, 400.0, 312.0]
-normal = [0.0, 0.0, 1.0]
-diameter = 300.0
-thickness = 0.775
-""")
+    return parse_scenario(one_carrier("100", start=290.0, final=330.0, first_slot_z=300.0,
+                                      thickness=0.775, mapping=f'rules = "{rules}"\n',
+                                      extra=free_wafer("seated", 400.0, 310.0, 0.775)
+                                      + free_wafer("above", 400.0, 312.0, 0.775)))
 
 
 def test_two_runs_in_one_slot_stay_a_finding_with_a_warning_naming_both():

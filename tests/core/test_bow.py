@@ -6,6 +6,7 @@ import random
 from dataclasses import replace
 
 import pytest
+from scenarios import PAPER
 from sensor_layouts import SEAT, T, one_wafer
 
 from waferscan.core.files.scenario import parse_scenario, read_scenario
@@ -13,7 +14,6 @@ from waferscan.core.geometry.bow import beam_hits_bowed_wafer
 from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.spot import BeamSpot
 
-PAPER = "resources/examples/paper.toml"
 DEPTH = 16.6  # the beam's chord lies R - DEPTH from the wafer's centre
 
 

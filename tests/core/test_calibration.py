@@ -4,9 +4,9 @@ pitch come back within the latch resolution and the check scan maps every wafer 
 failure has its own kind and words."""
 
 from dataclasses import replace
-from pathlib import Path
 
 import pytest
+from scenarios import EXAMPLES, ROOT, drifted_paper
 
 from waferscan.core.files.mcs import apply_parameters, parse_parameters
 from waferscan.core.files.scenario import parse_scenario
@@ -22,9 +22,6 @@ from waferscan.core.scan.calibration import (
 )
 from waferscan.core.scan.layout_scan import scan_layout
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"
-PAPER_TEXT = PAPER_PATH.read_text()
 TAUGHT_SEAT, TAUGHT_PITCH = 293.94, 10.0
 TAUGHT = f"first_slot_z = {TAUGHT_SEAT}\nslot_pitch = {TAUGHT_PITCH}\n"
 LOAD = "1100100001000010000100011"  # references in slots 1 and 25, others between
@@ -33,12 +30,8 @@ LOAD = "1100100001000010000100011"  # references in slots 1 and 25, others betwe
 def drifted(offset=0.3, pitch=10.02, load=LOAD, z_step=0.05, recipe=TAUGHT):
     """The paper's carrier built with its real slot 1 ``offset`` above the taught seat and the
     real ``pitch``, loaded with ``load``; the controller's recipe is the taught one."""
-    text = (PAPER_TEXT.replace(f"first_slot_z = {TAUGHT_SEAT}",
-                               f"first_slot_z = {TAUGHT_SEAT + offset!r}")
-            .replace("pitch = 10.0\n", f"pitch = {pitch!r}\n")
-            .replace('load = "1101221001220001010000010"', f'load = "{load}"')
-            .replace("z_step = 0.05", f"z_step = {z_step!r}"))
-    real = parse_scenario(text, "drifted.toml", folder=PAPER_PATH.parent)
+    text = drifted_paper(load, offset, pitch, z_step)
+    real = parse_scenario(text, "drifted.toml", folder=EXAMPLES)
     return apply_parameters(real, parse_parameters(recipe, "taught.txt"))
 
 
@@ -162,7 +155,7 @@ def test_the_failures_have_distinct_exit_codes_other_than_bad_input():
 def test_the_readme_example_misreads_taught_and_maps_calibrated():
     from waferscan.core.files.scenario import read_scenario
 
-    layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
+    layout = read_scenario(EXAMPLES / "calibration_drifted.toml")
     assert scan_layout(layout).code == "1100100005000050000500055"
     calibration = calibrate(layout, scan_layout)
     assert calibration.check.code == LOAD
@@ -266,7 +259,7 @@ def test_the_recipe_is_kept_to_the_encoders_micrometre_and_json_keeps_the_measur
     from waferscan.core.files.report import calibration_dict
     from waferscan.core.files.scenario import read_scenario
 
-    layout = read_scenario(ROOT / "resources" / "examples" / "calibration_drifted.toml")
+    layout = read_scenario(EXAMPLES / "calibration_drifted.toml")
     calibration = calibrate(layout, scan_layout)
     pitch = (534.74 - 294.24) / 24
     assert (calibration.first_slot_z, calibration.pitch) == (294.24, 10.021)

@@ -5,6 +5,7 @@ layout's own geometry (seats, steps, thicknesses), not from a run of the code.""
 from dataclasses import replace
 
 import pytest
+from scenarios import free_wafer, one_carrier
 
 from waferscan.core.files.mcs import format_results
 from waferscan.core.files.report import result_dict
@@ -20,26 +21,9 @@ PITCH = 10.0
 
 
 def scenario(load="1111111111", start=90.0, final=200.0, step=0.05, thickness=0.7, extra=""):
-    return parse_scenario(f"""
-[scan]
-start_z = {start!r}
-final_z = {final!r}
-z_step = {step!r}
-[sensor]
-emitter = [-80.0, 266.6, {start!r}]
-direction = [1.0, 0.0, 0.0]
-length = 160.0
-[[carrier]]
-name = "A"
-slots = 10
-pitch = {PITCH!r}
-first_slot_z = {SEAT1!r}
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = {thickness!r}
-load = "{load}"
-{extra}
-""")
+    return parse_scenario(one_carrier(load, start=start, final=final, step=step,
+                                      first_slot_z=SEAT1, pitch=PITCH, thickness=thickness,
+                                      extra=extra))
 
 
 def seat(slot):
@@ -47,17 +31,6 @@ def seat(slot):
 
 
 # --- 1. Protrusion: judged on the front edge alone, 6 outranks everything --------------------
-
-def free_wafer(name, y, z, thickness=0.7):
-    return f"""
-[[wafer]]
-name = "{name}"
-center = [0.0, {y!r}, {z!r}]
-normal = [0.0, 0.0, 1.0]
-diameter = 300.0
-thickness = {thickness!r}
-"""
-
 
 @pytest.mark.parametrize("rise", [1.0, -0.8, 3.0, 4.9])
 def test_a_protruding_wafer_off_its_seat_is_6_in_the_slot_nearest_its_bottom(rise):
@@ -272,24 +245,9 @@ def test_the_paper_engine_keeps_a_top_face_exactly_on_a_step():
 def test_the_paper_and_exact_engines_agree_on_level_wafers_at_every_seat_on_the_grid():
     # Level wafers, beam well inside the rim: the mid-plane test and the exact one are the same.
     for first in (330.15, 330.4, 380.8, 402.35):
-        layout = parse_scenario(f"""
-[scan]
-start_z = 280.0
-final_z = 600.0
-z_step = 0.05
-[sensor]
-emitter = [-80.0, 266.6, 280.0]
-direction = [1.0, 0.0, 0.0]
-length = 160.0
-[[carrier]]
-slots = 10
-pitch = 10.0
-first_slot_z = {280.0 + round((first - 280.0) / 0.05) * 0.05!r}
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = 0.7
-load = "1111111111"
-""")
+        layout = parse_scenario(one_carrier(
+            "1111111111", start=280.0, final=600.0, name=None,
+            first_slot_z=280.0 + round((first - 280.0) / 0.05) * 0.05))
         exact = scan_layout(layout, "loop")
         paper = scan_layout(layout, "paper")
         assert [(r.z_in, r.z_out) for r in paper.runs] == [(r.z_in, r.z_out) for r in exact.runs]

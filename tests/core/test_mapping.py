@@ -2,6 +2,7 @@
 physically from a scenario and found by scanning."""
 
 import pytest
+from scenarios import one_carrier
 
 from waferscan.core.files.scenario import parse_scenario
 from waferscan.core.mapping import SlotPlan, judge_run, map_slots
@@ -79,30 +80,9 @@ def test_e87_map():
     assert map_slots(PLAN, [(100.0, 100.1), (111.0, 111.7)], [3]).e87 == "22211"
 
 
-SCENARIO = """
-[scan]
-start_z = 90.0
-final_z = 200.0
-z_step = 0.05
-[sensor]
-emitter = [-80.0, 266.6, 90.0]
-direction = [1.0, 0.0, 0.0]
-length = 160.0
-[[carrier]]
-name = "A"
-slots = 10
-pitch = 10.0
-first_slot_z = 100.0
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = 0.7
-load = "{load}"
-"""
-
-
 @pytest.mark.parametrize("load", ["1220345601", "0000000000", "2222222222", "3333344444",
                                   "5656565656", "1111111111", "0122012200"])
 def test_states_built_physically_are_found_by_the_scan(load):
-    layout = parse_scenario(SCENARIO.format(load=load))
+    layout = parse_scenario(one_carrier(load))
     assert scan_layout(layout).code == load
     assert scan_layout(layout, "loop").code == load

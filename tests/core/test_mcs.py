@@ -4,11 +4,12 @@ results.txt written byte for byte and atomically."""
 import json
 import os
 import stat
-from pathlib import Path
 
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from scenarios import PAPER as PAPER_PATH
+from scenarios import PAPER_CODE, PAPER_TEXT
 
 from waferscan.core.errors import InputError
 from waferscan.core.files import mcs
@@ -24,10 +25,7 @@ from waferscan.core.files.text_files import atomic_write_text
 from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"
 PAPER = read_scenario(PAPER_PATH)
-PAPER_TEXT = PAPER_PATH.read_text()
 
 # A layout with two carriers, to see that parameters.txt's carrier = NAME picks one.
 TWO_CARRIERS = PAPER_TEXT + """
@@ -436,7 +434,6 @@ def test_a_growing_file_only_adds_commands(lines, newline, bom, data):
 # SPEC §4: the SEMI E87 SlotMap beside the code.
 E87 = {"0": "1", "1": "3", "2": "5", "3": "4", "4": "2", "5": "2", "6": "2"}
 STATE = {"0": "empty", "1": "present", "2": "cross-slotted"}
-PAPER_CODE = "1101221001220001010000010"
 STAMP = "2026-01-02T03:04:05Z"
 
 

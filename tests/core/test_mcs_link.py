@@ -5,16 +5,16 @@ import gc
 import os
 import pathlib
 import tracemalloc
-from pathlib import Path
 
 import pytest
+import scenarios
 
 from waferscan.core.errors import InputError
 from waferscan.core.files.mcs_link import McsLink, answered_seq
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-PAPER = read_scenario(Path(__file__).resolve().parents[2] / "resources/examples/paper.toml")
+PAPER = read_scenario(scenarios.PAPER)
 RESULT = scan_layout(PAPER)
 
 

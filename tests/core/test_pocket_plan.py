@@ -3,16 +3,14 @@ wafer, in the carrier's own plan coordinates, against a hand computation on slow
 
 import math
 from dataclasses import replace
-from pathlib import Path
-
 import pytest
+from scenarios import SLOW_JAB as EXAMPLE
 
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import Beam
 from waferscan.core.scan import pocket_plan as plans
 from waferscan.core.scan.layout_scan import scan_layout
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "resources" / "examples" / "slow_jab.toml"
 LAYOUT = read_scenario(EXAMPLE)
 RESULT = scan_layout(LAYOUT)
 # slow_jab.toml from above, the carrier's centre (0, 400) at the origin, v into the carrier:

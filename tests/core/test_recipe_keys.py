@@ -3,11 +3,11 @@ validation for both naming file, line, key and value; results.txt's header and -
 a scan used; a scan without a recipe lists what it always did."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
+from commands import waferscan
+from scenarios import PAPER as PAPER_PATH
+from scenarios import PAPER_TEXT
 
 from waferscan.core import recipe
 from waferscan.core.errors import InputError
@@ -22,9 +22,6 @@ from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.mapping import BOUNDARY
 from waferscan.core.scan.layout_scan import scan_layout
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER_PATH = ROOT / "resources" / "examples" / "paper.toml"
-PAPER_TEXT = PAPER_PATH.read_text()
 PAPER = read_scenario(PAPER_PATH)
 
 RECIPE_TEXT = ("thickness_min = 0.5\nthickness_max = 0.9\ndouble_threshold = 2.0\n"
@@ -136,16 +133,12 @@ def test_a_scenario_refuses_the_same_with_its_line(toml, key, message):
 def test_the_command_line_scans_with_a_recipe_and_refuses_a_bad_one(tmp_path):
     params = tmp_path / "parameters.txt"
     params.write_text("rules = boundary\nposition_above = 0.7\n")
-    run = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", "--engine", "analytic",
-                          "--json", "--params", str(params), str(PAPER_PATH)],
-                         cwd=ROOT, capture_output=True, text=True)
+    run = waferscan("scan", "--engine", "analytic", "--json", "--params", params, PAPER_PATH)
     assert run.returncode == 0, run.stderr
     params_used = json.loads(run.stdout)["params"]
     assert (params_used["rules"], params_used["position_above"]) == ("boundary", 0.7)
     params.write_text("thickness_min = 0.9\nthickness_max = 0.8\n")
-    run = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", "--engine", "analytic",
-                          "--params", str(params), str(PAPER_PATH)],
-                         cwd=ROOT, capture_output=True, text=True)
+    run = waferscan("scan", "--engine", "analytic", "--params", params, PAPER_PATH)
     assert run.returncode == 2
     assert run.stderr == (f"waferscan: error: {params}:1: thickness_min: thickness_min 0.9 must "
                           "be less than thickness_max 0.8\n")

@@ -1,19 +1,18 @@
 """Scenario files (SPEC §6): what they build, and every mistake named by file, line and key."""
 
 import math
-from pathlib import Path
 
 import pytest
+import scenarios
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scenarios import PAPER_TEXT, ROOT
 
 from waferscan.core.errors import InputError
 from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER_TEXT = (ROOT / "resources/examples/paper.toml").read_text()
-PAPER = read_scenario(ROOT / "resources/examples/paper.toml")
+PAPER = read_scenario(scenarios.PAPER)
 
 SMALL = """\
 [scan]

@@ -2,22 +2,22 @@
 scenario's [sensor] and [scan] tables leave unset, group by group, and nothing else."""
 
 import math
-from pathlib import Path
+
+import scenarios
+from scenarios import PAPER_TEXT as TEXT
 
 from waferscan.core.files.scenario import parse_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.settings import defaults_not_given, values_with_defaults
 from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
-PAPER = (Path(__file__).resolve().parents[2] / "resources" / "examples" / "paper.toml")
-TEXT = PAPER.read_text(encoding="utf-8")
 PREFERRED = {"spot_diameter": 1.0, "threshold_on": 0.6, "threshold_off": 0.4,
              "latch": "encoder", "acceleration": 2000.0, "sensor_response": 0.00025}
 
 
 def with_lines(table, *lines):
     """The paper's scenario with ``lines`` added at the top of its [table]."""
-    return TEXT.replace(f"[{table}]\n", f"[{table}]\n" + "".join(f"{x}\n" for x in lines), 1)
+    return scenarios.with_lines(TEXT, table, *lines)
 
 
 def test_no_defaults_leave_the_layout_as_the_scenario_reads():

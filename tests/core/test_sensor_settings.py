@@ -1,9 +1,10 @@
 """SPEC §10's settings through scenarios, parameters.txt, JSON and results.txt."""
 
 import re
-from pathlib import Path
 
 import pytest
+from scenarios import PAPER as PAPER_PATH
+from scenarios import PAPER_TEXT
 
 from waferscan.core.errors import InputError
 from waferscan.core.files.mcs import (
@@ -17,8 +18,6 @@ from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.spot import Amplifier, BeamSpot
 
-PAPER_PATH = Path(__file__).resolve().parents[2] / "resources" / "examples" / "paper.toml"
-PAPER_TEXT = PAPER_PATH.read_text()
 
 
 def with_lines(table, *lines):

@@ -2,16 +2,10 @@
 durations of a fast and a slow scan, shown side by side whichever mode ran; and a word that
 the jab and sweep were not made."""
 
-import re
-from pathlib import Path
-
 import pytest
+from scenarios import SLOW_JAB_WITHOUT_ROBOT as NO_ROBOT
 
 from waferscan.core.files.scenario import parse_scenario
-
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLE = (ROOT / "resources" / "examples" / "slow_jab.toml").read_text()
-NO_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", EXAMPLE)
 
 
 def test_a_fast_scan_with_a_jab_says_it_made_none_and_what_a_slow_one_would_take():

@@ -3,23 +3,15 @@ SPEC §7): the scenario, parameters.txt and the command line name the file, the 
 value, exit status 2, no traceback. One check (core/files/validation.py) for every reader."""
 
 import math
-import os
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
+from commands import waferscan
+from scenarios import SLOW_JAB_WITHOUT_ROBOT as NO_ROBOT
 
 from waferscan.core.errors import InputError
 from waferscan.core.files.mcs import apply_parameters, parse_parameters
 from waferscan.core.files.scenario import parse_scenario
-
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLE = (ROOT / "resources" / "examples" / "slow_jab.toml").read_text()
-# The example without its [robot] (a robot refuses a beam that is not horizontal before these
-# checks are reached; the scanner alone is moved by its placement, SPEC §13).
-NO_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", EXAMPLE)
 
 
 def scenario(**replace):
@@ -150,13 +142,6 @@ def test_parameters_txt_is_checked_the_same_way():
     with pytest.raises(InputError, match=r"^parameters.txt:1: sweep: 10 degrees needs a beam "
                                          r"that crosses the pocket.*vertical"):
         apply_parameters(vertical, parse_parameters("sweep = 10\n"))
-
-
-def waferscan(*args, cwd):
-    """The command line run in ``cwd`` on this worktree's code (not an installed copy's)."""
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.run([sys.executable, "-m", "waferscan.cli", *map(str, args)], cwd=cwd,
-                          env=env, capture_output=True, text=True, timeout=300)
 
 
 def test_the_command_line_says_it_in_one_line_with_exit_status_2(tmp_path):

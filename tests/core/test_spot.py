@@ -10,14 +10,13 @@ SPEC §2 (``beam_hits_wafer``), for tilted wafers and grazing chords.
 from dataclasses import replace
 
 import pytest
+from scenarios import PAPER
+from sensor_layouts import SEAT, T, band_fraction, one_wafer, oracle_edges, solve
 
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.geometry.beam import beam_hits_wafer
 from waferscan.core.scan.layout_scan import scan_layout
 from waferscan.core.sensor.spot import Amplifier, BeamSpot, BlockedFraction, spot_frame
-
-PAPER = "resources/examples/paper.toml"
-from sensor_layouts import SEAT, T, band_fraction, one_wafer, oracle_edges, solve
 
 SPOTS = [BeamSpot(diameter=d) for d in (0.1, 0.3, 1.0, 2.0, 5.0)] + \
         [BeamSpot(width=w, height=h) for w, h in ((0.5, 0.1), (2.0, 1.2), (1.0, 5.0))]

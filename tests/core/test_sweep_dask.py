@@ -12,30 +12,15 @@ import time
 from pathlib import Path
 
 import pytest
+import scenarios
+from scenarios import ROOT, normal, uniform
 
 from waferscan import cli, sweep
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = str(ROOT / "resources/examples/paper.toml")
-TOL = """
-[seat_offset]
-dist = "uniform"
-lo = -0.7
-hi = 0.7
-[thickness]
-dist = "normal"
-mean = 0.7
-sigma = 0.05
-[tilt]
-dist = "uniform"
-lo = 0.0
-hi = 0.2
-[states]
-present = 0.7
-empty = 0.2
-cross = 0.05
-double = 0.05
-"""
+PAPER = str(scenarios.PAPER)
+TOL = ("\n" + uniform("seat_offset", -0.7, 0.7) + normal("thickness", 0.7, 0.05)
+       + uniform("tilt", 0.0, 0.2)
+       + "[states]\npresent = 0.7\nempty = 0.2\ncross = 0.05\ndouble = 0.05\n")
 
 
 @pytest.fixture

@@ -11,17 +11,16 @@ import time
 from pathlib import Path
 
 import pytest
+from commands import CLI
+from scenarios import PAPER, ROOT, normal
 
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
-TOL = '[beam_z]\ndist = "normal"\nmean = 0\nsigma = 0.1\n'
+TOL = normal("beam_z", 0, 0.1)
 
 
 def sweep(tmp_path, *args, **kwargs):
     tol = tmp_path / "TOL.toml"
     tol.write_text(TOL)
-    return [sys.executable, "-m", "waferscan.cli", "sweep", str(PAPER), "--tolerances",
-            str(tol), *map(str, args)]
+    return [*CLI, "sweep", str(PAPER), "--tolerances", str(tol), *map(str, args)]
 
 
 @pytest.mark.parametrize("address, message", [

@@ -21,6 +21,7 @@ import math
 import mpmath
 import numpy as np
 import pytest
+from scenarios import normal, one_carrier, uniform
 
 from waferscan.core.files.scenario import parse_scenario
 from waferscan.core import sweep
@@ -32,28 +33,9 @@ LOW, HIGH = -0.55, 0.5   # present iff LOW < d <= HIGH (d: bottom above seat, mm
 
 
 def foup(load="1" * 25):
-    return parse_scenario(f"""
-[scan]
-start_z = 280.0
-final_z = 560.0
-z_step = 0.05
-sensor_response = 0.0
-[sensor]
-emitter = [-80.0, 266.6, 280.0]
-direction = [1.0, 0.0, 0.0]
-length = 160.0
-[mapping]
-position_tolerance = 0.5
-[[carrier]]
-name = "F"
-slots = 25
-pitch = 10.0
-first_slot_z = 300.0
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = 0.7
-load = "{load}"
-""")
+    return parse_scenario(one_carrier(load, start=280.0, final=560.0, first_slot_z=300.0,
+                                      name="F", scan="sensor_response = 0.0\n",
+                                      mapping="position_tolerance = 0.5\n", slots=25))
 
 
 def phi(x):
@@ -80,11 +62,11 @@ def miss_both(sigma, a):
 
 
 def beam_z(sigma):
-    return f'[beam_z]\ndist = "normal"\nmean = 0.0\nsigma = {sigma!r}\n'
+    return normal("beam_z", 0.0, sigma)
 
 
 def seat_offset(a):
-    return f'[seat_offset]\ndist = "uniform"\nlo = {-a!r}\nhi = {a!r}\n'
+    return uniform("seat_offset", -a, a)
 
 
 CASES = {

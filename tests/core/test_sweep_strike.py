@@ -6,9 +6,9 @@ that say so."""
 import json
 import math
 from dataclasses import replace
-from pathlib import Path
-
 import pytest
+from commands import waferscan
+from scenarios import SLOW_JAB as EXAMPLE
 
 from waferscan.core.files.report import result_dict
 from waferscan.core.files.scenario import read_scenario
@@ -16,7 +16,6 @@ from waferscan.core.model import Beam, Carrier, Layout, MappingTolerances, ScanP
 from waferscan.core.scan import slow_scan
 from waferscan.core.scan.layout_scan import scan_layout
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "resources" / "examples" / "slow_jab.toml"
 EXAMPLE_LAYOUT = read_scenario(EXAMPLE)
 
 R, T = 150.0, 0.7
@@ -222,13 +221,8 @@ def test_json_gives_each_slot_its_strike_ranges_or_null():
 
 
 def test_every_channel_says_it_json_results_txt_and_stderr(tmp_path):
-    import subprocess
-    import sys
-
     out = tmp_path / "results.txt"
-    run = subprocess.run([sys.executable, "-m", "waferscan.cli", "scan", str(EXAMPLE), "--json",
-                          "--out", str(out)], capture_output=True, text=True,
-                         cwd=Path(__file__).resolve().parents[2])
+    run = waferscan("scan", EXAMPLE, "--json", "--out", out)
     assert run.returncode == 0, run.stderr
     expected = [w for w in EXAMPLE_RESULT.warnings if "a tine" in w]
     assert len(expected) == 3

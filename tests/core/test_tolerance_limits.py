@@ -3,17 +3,12 @@
 slots with RuntimeWarnings. Each is now one error line naming the file, the line and the key
 (exit 2), before anything is drawn. Each case failed before the fix."""
 
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
+from commands import waferscan
+from scenarios import PAPER, normal, uniform
 
 from waferscan.core.errors import InputError
 from waferscan.core.sweep.distributions import parse_tolerances
-
-ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT / "resources" / "examples" / "paper.toml"
 
 
 @pytest.mark.parametrize("text, line, start", [
@@ -40,8 +35,8 @@ def test_values_beyond_a_quantitys_limits_are_refused_with_file_and_line(text, l
 
 
 def test_values_within_the_limits_still_pass():
-    tolerances = parse_tolerances('[beam_z]\ndist = "normal"\nmean = 0\nsigma = 0.2\n'
-                                  '[seat_offset]\ndist = "uniform"\nlo = -0.5\nhi = 0.5\n', "T")
+    tolerances = parse_tolerances(normal("beam_z", 0, 0.2) + uniform("seat_offset", -0.5, 0.5),
+                                  "T")
     assert set(tolerances.quantities) == {"beam_z", "seat_offset"}
 
 
@@ -50,9 +45,8 @@ def test_values_within_the_limits_still_pass():
 def test_the_sweep_command_says_it_in_one_line(tmp_path, table):
     tol = tmp_path / "TOL.toml"
     tol.write_text(table)
-    done = subprocess.run([sys.executable, "-m", "waferscan.cli", "sweep", str(PAPER),
-                           "--tolerances", str(tol), "-n", "20", "--workers", "0"], cwd=ROOT,
-                          capture_output=True, text=True, timeout=600)
+    done = waferscan("sweep", PAPER, "--tolerances", tol, "-n", "20", "--workers", "0",
+                     timeout=600)
     assert done.returncode == 2, (done.stdout[-500:], done.stderr[-2000:])
     assert done.stderr.count("\n") == 1 and done.stderr.startswith(f"waferscan: error: {tol}:")
     assert "must stay within" in done.stderr and done.stdout == ""
