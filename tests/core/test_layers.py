@@ -123,3 +123,33 @@ def test_core_families_import_only_the_families_below():
                 wrong.append((module, target))
     assert wrong == []
 
+
+
+def test_the_package_root_holds_the_command_line_the_addon_glue_and_packages():
+    loose = sorted(p.name for p in PACKAGE.glob("*.py"))
+    assert loose in (["__init__.py", "addon.py", "cli.py"],
+                     ["__init__.py", "__main__.py", "addon.py", "cli.py"])
+
+
+# Above core (ARCHITECTURE.md, docs/contributing.md): what each package may import of ours.
+MAY_IMPORT = {
+    "robot": {"core", "addon"},
+    "cad": {"core", "robot", "addon"},
+    "plots": {"core"},  # draws what core computed, nothing of FreeCAD's
+    "sweep": {"core", "cad", "plots", "addon"},
+    "bench": {"core", "robot", "cad", "plots", "sweep", "addon"},
+}
+
+
+def test_the_packages_import_only_those_below_them():
+    graph = _imports()
+    wrong = []
+    for module, targets in graph.items():
+        own = module.split(".")[1] if module.count(".") else None
+        if own not in MAY_IMPORT:
+            continue
+        for target in targets:
+            theirs = target.split(".")[1] if target.count(".") else None
+            if theirs not in (own, None) and theirs not in MAY_IMPORT[own]:
+                wrong.append((module, target))
+    assert wrong == []

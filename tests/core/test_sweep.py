@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from scenarios import SWEEP_TOLERANCES
 
 from waferscan.core.files.scenario import parse_scenario, read_scenario
 from waferscan.core.mapping import BOUNDARY, CROSS, PRESENT, WAFERSCAN
@@ -18,44 +19,7 @@ from waferscan.core.sweep.distributions import parse_tolerances
 
 PAPER = "resources/examples/paper.toml"
 
-EVERYTHING = """
-[seat_offset]
-dist = "uniform"
-lo = -0.7
-hi = 0.7
-[thickness]
-dist = "normal"
-mean = 0.7
-sigma = 0.08
-[tilt]
-dist = "uniform"
-lo = 0.0
-hi = 0.4
-[protrusion]
-dist = "uniform"
-lo = 0.0
-hi = 1.6
-[beam_z]
-dist = "normal"
-mean = 0.0
-sigma = 0.3
-[beam_tilt]
-dist = "uniform"
-lo = -0.3
-hi = 0.3
-[sensor_response]
-dist = "uniform"
-lo = 0.0
-hi = 0.003
-[states]
-present = 0.55
-empty = 0.15
-cross = 0.08
-double = 0.08
-thin = 0.06
-position_error = 0.04
-protruding = 0.04
-"""
+EVERYTHING = SWEEP_TOLERANCES  # every quantity varied, every state placed
 
 
 def paper():
