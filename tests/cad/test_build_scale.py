@@ -12,7 +12,7 @@ import pytest
 from waferscan.bench import stack_layout
 from waferscan.cad import roles
 from waferscan.cad.builder import build_document
-from waferscan.cad.layout_files import _xml_attribute
+from waferscan.cad.layout_files import xml_attribute
 from waferscan.cad.reader import read_layout
 from waferscan.core.model import Wafer
 
@@ -88,7 +88,7 @@ def test_a_label_set_after_the_build_is_checked_again(closing):
 
 @pytest.mark.parametrize("text", ["Wafer001", 'a"b', "a'b\"c", "<&>", "line\nbreak\ttab"])
 def test_view_data_attributes_are_quoted(text):
-    element = ElementTree.fromstring(f"<ViewProvider name={_xml_attribute(text)}/>")
+    element = ElementTree.fromstring(f"<ViewProvider name={xml_attribute(text)}/>")
     assert element.get("name") == text
 
 

@@ -13,8 +13,8 @@ from random_layouts import random_layout
 from waferscan.core.geometry.beam import TOUCH_TOLERANCE, accessible, accessible_wafers
 from waferscan.core.mapping import LIMIT_SLACK, SlotPlan, unscanned_slots
 from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer
-from waferscan.core.scan.engines import SETTLED_MARGIN, _level_edger, _settler, wafer_edges
-from waferscan.core.scan.scan_result import _carrier_protrusions, _carrier_wafers, protrusion
+from waferscan.core.scan.engines import SETTLED_MARGIN, level_edger, settler, wafer_edges
+from waferscan.core.scan.scan_result import carrier_protrusions, carrier_wafers, protrusion
 
 
 def _level_layout(rng, emitter, heading, length, step=0.05):
@@ -51,14 +51,14 @@ def test_level_edges_are_translation_ranges_bit_for_bit():
             wafer = Wafer("W", center, (0.0, 0.0, 1.0), wafer.diameter, wafer.thickness)
         for tol in (1e-9, 0.0):
             expected = wafer_edges(layout, wafer, tol)
-            assert _level_edger(layout, tol)(wafer) == expected, (seed, tol)
+            assert level_edger(layout, tol)(wafer) == expected, (seed, tol)
             met += expected is not None
             missed += expected is None
     assert met > 1000 and missed > 1000  # both answers exercised
 
 
 def _settled_by_definition(layout, edges):
-    """The settled steps as SPEC'd in engines._settled_steps, term by term, wafer by wafer."""
+    """The settled steps as SPEC'd in engines.settled_steps, term by term, wafer by wafer."""
     scan = layout.scan
     size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]),
                abs(edges[0]), abs(edges[1]))
@@ -89,7 +89,7 @@ def test_settled_steps_worked_out_once_a_scan_are_the_formula():
             high = start + step * rng.randint(0, 400) + rng.choice([0.0, 1e-13, -1e-13])
         edges = (low, max(low, high))
         expected = _settled_by_definition(layout, edges)
-        assert _settler(layout)(edges) == expected, seed
+        assert settler(layout)(edges) == expected, seed
         settled += expected is not None
         unsettled += expected is None
     assert settled > 300 and unsettled > 300
@@ -107,7 +107,7 @@ def test_carrier_wafers_are_the_mid_centre_definition_and_protrusion_the_solids_
                         if math.hypot(w.mid_center[0] - carrier.center[0],
                                       w.mid_center[1] - carrier.center[1]) < r
                         and z_lo <= w.mid_center[2] <= z_hi]
-            assert list(_carrier_wafers(carrier, layout.wafers)) == expected, seed
+            assert list(carrier_wafers(carrier, layout.wafers)) == expected, seed
             found += len(expected)
             left += len(layout.wafers) - len(expected)
             for wafer in layout.wafers:
@@ -152,7 +152,7 @@ def test_carrier_protrusions_are_protrusion_of_the_carrier_wafers():
                                       w.mid_center[1] - carrier.center[1]) < r
                         and carrier.seat_z(1) - carrier.pitch <= w.mid_center[2]
                         <= carrier.seat_z(carrier.slot_count) + carrier.pitch]
-            assert _carrier_protrusions(carrier, wafers) == expected, seed
+            assert carrier_protrusions(carrier, wafers) == expected, seed
             inside += sum(1 for w, _ in expected if w.name.startswith("E"))
             outside += len(edge_wafers) - sum(1 for w, _ in expected if w.name.startswith("E"))
     assert inside > 300 and outside > 300

@@ -7,7 +7,8 @@ import pytest
 
 from waferscan.core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer
 from waferscan.core.scan import slow_scan
-from waferscan.core.scan.layout_scan import scan_layout, slot_plan
+from waferscan.core.scan.layout_scan import scan_layout
+from waferscan.core.scan.scan_result import slot_plan
 
 R, T = 150.0, 0.7
 SEAT = 300.0

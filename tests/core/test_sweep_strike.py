@@ -133,7 +133,7 @@ def test_a_tilted_wafers_strike_edges_are_bisected_to_the_tolerance():
         for edge, into in ((lo, 1), (hi, -1)):
             # Just inside the range a tine is in the wafer (the exact test), just outside none is.
             def any_tine_in(angle):
-                return any(slow_scan._tine_inside(p, (1.0, 0.0, 0.0), tilted, 1e-9)
+                return any(slow_scan.tine_inside(p, (1.0, 0.0, 0.0), tilted, 1e-9)
                            for p in slow_scan.tine_points(lay, Z, 26.6, angle))
             if abs(abs(edge) - 40.0) > 1e-12:
                 assert any_tine_in(edge + into * 1e-7)

@@ -172,7 +172,7 @@ def save_document(doc, path):
             from None
 
 
-def _xml_attribute(text):
+def xml_attribute(text):
     """``text`` as a double-quoted XML attribute value. (xml.sax.saxutils.quoteattr does this
     too, but importing it pulls in urllib, http.client and email: ~20 ms of every headless
     start-up, for a save that may not even happen.)"""
@@ -215,7 +215,7 @@ def _add_view_data(doc, path):
             shown = "false"
         else:
             shown = "true" if getattr(obj, "Visibility", True) else "false"
-        rows.append(f'        <ViewProvider name={_xml_attribute(obj.Name)} expanded="0">\n'
+        rows.append(f'        <ViewProvider name={xml_attribute(obj.Name)} expanded="0">\n'
                     f'            <Properties Count="1">\n'
                     f'                <Property name="Visibility" type="App::PropertyBool">\n'
                     f'                    <Bool value="{shown}"/>\n'

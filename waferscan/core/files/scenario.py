@@ -205,7 +205,7 @@ def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None,
     ``MappingTolerances`` a scenario without a [mapping] table gets (None: the core's).
     ``default_sensor``: SPEC §10 values (and sensor_response) for what the scenario does not
     set, by ``sensor_settings.DEFAULT_GROUPS`` (None: the ideal sensor's)."""
-    data = _toml(text, source)
+    data = parse_toml(text, source)
     reader = _Reader(source, text, Path(folder) if folder is not None else Path.cwd())
     _check_tables(reader, data)
 
@@ -237,7 +237,7 @@ def parse_scenario(text, source="<scenario>", folder=None, default_mapping=None,
     return layout
 
 
-def _toml(text, source):
+def parse_toml(text, source):
     """The TOML text as data; an InputError with the line tomllib names otherwise."""
     try:
         return tomllib.loads(text)

@@ -176,7 +176,7 @@ def wafer_edges(layout, wafer, tol=TOUCH_TOLERANCE):
     return (z0 + span[0] * az, z0 + span[1] * az)
 
 
-def _level_edger(layout, tol=TOUCH_TOLERANCE):
+def level_edger(layout, tol=TOUCH_TOLERANCE):
     """``wafer_edges(layout, wafer, tol)`` for a level scan (lift along Z, beam level) and a flat
     level wafer (normal (0, 0, 1), no bow), as a function of the wafer: ``translation_range``'s
     level case (``_level_wafer_range``, ``rim_span``, ``rim_roots`` with floats) in one body,
@@ -235,7 +235,7 @@ def geometric_edges(layout, wafer, touching):
     return exact
 
 
-# How far a grid position must be from a level wafer's edge for ``_settled_steps`` to place it
+# How far a grid position must be from a level wafer's edge for ``settled_steps`` to place it
 # without a test, relative to the size of the coordinates: the edges and the loop engine's test
 # are exact to a few units of the last place (~1e-16 relative), this is a thousand times more,
 # and below the touch tolerance (1e-9 mm) at the coordinates of a fab (< 1 m), so that a seat
@@ -243,7 +243,7 @@ def geometric_edges(layout, wafer, touching):
 SETTLED_MARGIN = 1e-12
 
 
-def _is_level(layout, wafer):
+def is_level(layout, wafer):
     """The common case of ``translation_range``: a wafer lying flat, lifted along its axis (Z),
     the beam along its faces. Its edges are its faces' heights (widened by the touch tolerance)
     to rounding, and the beam meets it at every position between them."""
@@ -251,16 +251,16 @@ def _is_level(layout, wafer):
             and layout.beam.direction[2] == 0.0)
 
 
-def _settled_steps(layout, edges):
+def settled_steps(layout, edges):
     """The stepped interval of a level wafer when no grid position lies near either edge (within
     SETTLED_MARGIN of the coordinates' size): then every position is on the side of the edges
     that it is by more than any rounding, and the ``loop`` engine's test would find just that.
     None when not so (the positions next to the edges are then tested)."""
-    return _settler(layout)(edges)
+    return settler(layout)(edges)
 
 
-def _settler(layout):
-    """``_settled_steps`` for one layout, as a function of the edges: what depends on the scan
+def settler(layout):
+    """``settled_steps`` for one layout, as a function of the edges: what depends on the scan
     alone (its size, its last step) worked out once a scan instead of once a wafer. The same
     values: max over floats and the comparisons are exact, whatever their grouping."""
     scan = layout.scan
@@ -296,7 +296,7 @@ def _settler(layout):
     return settled
 
 
-def _snap_to_grid(layout, wafer, edges):
+def snap_to_grid(layout, wafer, edges):
     """The stepped interval of one wafer from its exact edges. The closed-form edges are exact
     to rounding; the grid steps next to each edge are then settled with the very test the
     ``loop`` engine uses, so that both engines agree bit for bit."""
@@ -335,11 +335,11 @@ def analytic_engine(layout, progress=None):
     wafers = layout.wafers
     edges = [None] * len(wafers)
     level_scan = layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0
-    level_edges = _level_edger(layout) if level_scan else None
+    level_edges = level_edger(layout) if level_scan else None
     # A level wafer's stepped interval straight from its edges when no grid position lies near
-    # them (_is_level, _settled_steps, with the layout's part of each worked out once); else
-    # the steps next to the edges are tested (_snap_to_grid).
-    settled = None if scan.exact else _settler(layout)
+    # them (is_level, settled_steps, with the layout's part of each worked out once); else
+    # the steps next to the edges are tested (snap_to_grid).
+    settled = None if scan.exact else settler(layout)
     steps = [None] * len(wafers)
     for i in reachable_wafers(layout):  # only these: most of a fab's wafers are out of reach
         wafer = wafers[i]
@@ -347,7 +347,7 @@ def analytic_engine(layout, progress=None):
         edge = level_edges(wafer) if level and not wafer.bow else wafer_edges(layout, wafer)
         edges[i] = edge
         if settled is not None and edge is not None:
-            steps[i] = (level and settled(edge)) or _snap_to_grid(layout, wafer, edge)
+            steps[i] = (level and settled(edge)) or snap_to_grid(layout, wafer, edge)
     if scan.exact:
         edges = [None if e is None else geometric_edges(layout, w, e)
                  for w, e in zip(wafers, edges)]

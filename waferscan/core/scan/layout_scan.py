@@ -15,26 +15,20 @@ from ..mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slo
 from ..model import SLOW
 from . import slow_scan
 from .engines import ExactHits, run_engine
-
-# The parts of a scan's result live in scan_result (shared with core/scan/sensing.py); they are
-# named here too, where callers have always found them.
 from .scan_result import (
     ScanResult,
     SensorRun,
     WaferInterval,
-    _carrier_wafers,
-    _exact_intervals,
-    _run_wafers,
-    _stepped_intervals,
-    _window,
-    latch,
+    exact_intervals,
     latcher,
+    pocket_window,
     protruding_slots,
-    protrusion,
     protrusions_by_slot,
+    run_wafers,
     scan_warnings,
     scanned_range,
     slot_plan,
+    stepped_intervals,
 )
 
 
@@ -56,16 +50,16 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     plan = slot_plan(carrier, layout.mapping)
     hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(
         slow_scan.stepping_layout(layout), progress)  # with a jab, the fork in (SPEC §13)
-    window = _window(plan) if scan.mode == SLOW else None
+    window = pocket_window(plan) if scan.mode == SLOW else None
     if isinstance(hits, ExactHits):
-        run_spans, wafer_spans = _exact_intervals(hits, window)
+        run_spans, wafer_spans = exact_intervals(hits, window)
     else:
-        run_spans, wafer_spans = _stepped_intervals(hits, scan, window)
+        run_spans, wafer_spans = stepped_intervals(hits, scan, window)
     latch_run = latcher(scan)
     latched = [latch_run(bottom, top) for bottom, top in run_spans]
     runs = [SensorRun(z_in, z_out, names, span)
             for (z_in, z_out), span, names in zip(latched, run_spans,
-                                                  _run_wafers(run_spans, layout.wafers,
+                                                  run_wafers(run_spans, layout.wafers,
                                                               wafer_spans))]
     wafers = tuple([WaferInterval(w.name, None, None) if span is None else
                     WaferInterval(w.name, span[0], span[1])

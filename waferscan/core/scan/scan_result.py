@@ -135,11 +135,11 @@ def slot_plan(carrier, mapping):
     )
 
 
-def _window(plan):
+def pocket_window(plan):
     return (plan.seat_z(1) - 0.5 * plan.pitch, plan.seat_z(plan.slot_count) + 0.5 * plan.pitch)
 
 
-def _stepped_intervals(hits, scan, window):
+def stepped_intervals(hits, scan, window):
     """Step intervals as (bottom, top) scan positions, clipped to the steps inside ``window``."""
     if window is None:
         k_lo, k_hi = 0, hits.count - 1
@@ -169,7 +169,7 @@ def _stepped_intervals(hits, scan, window):
             [None if w is None else span(w) for w in hits.wafer_steps])
 
 
-def _exact_intervals(hits, window):
+def exact_intervals(hits, window):
     def clip(interval):
         if interval is None:
             return None
@@ -266,12 +266,12 @@ def front_reaches(radius, thickness, bow, along):
     return reach + np.maximum(0.0, thickness * along)
 
 
-def _carrier_wafers(carrier, wafers):
+def carrier_wafers(carrier, wafers):
     """The wafers inside the carrier's footprint and slot range."""
-    return (wafer for wafer, _ in _carrier_protrusions(carrier, wafers))
+    return (wafer for wafer, _ in carrier_protrusions(carrier, wafers))
 
 
-def _carrier_protrusions(carrier, wafers):
+def carrier_protrusions(carrier, wafers):
     """[(wafer, ``protrusion(carrier, wafer)``)] for each wafer inside the carrier's footprint and
     slot range: one pass with the carrier's values read once, as this runs for every wafer of a
     fab at every scan. Which wafers are the carrier's is judged by ``wafer.mid_center``; it and
@@ -374,7 +374,7 @@ def protrusions_by_slot(carrier, plan, wafers):
     by_slot = {}
     found = []
     limit = plan.protrusion_limit
-    for wafer, amount in _carrier_protrusions(carrier, wafers):
+    for wafer, amount in carrier_protrusions(carrier, wafers):
         found.append((wafer.name, amount))
         if amount > limit:
             (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
@@ -443,7 +443,7 @@ def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
     return tuple(warnings)
 
 
-def _run_wafers(run_spans, wafers, wafer_spans):
+def run_wafers(run_spans, wafers, wafer_spans):
     """For each run (bottom, top), the names of the wafers whose span overlaps it, in the
     layout's order. The runs are disjoint, so sorted by bottom their tops ascend too: each
     wafer finds its runs by bisection, O((runs + wafers) log runs) where a search of every

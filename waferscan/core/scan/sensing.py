@@ -78,7 +78,7 @@ class SignalTrace:
         return np.clip(b, 0.0, 1.0)
 
 
-def _strokes(scan):
+def strokes(scan):
     """The directions the beam moves in, True for up."""
     if scan.mode == SLOW or scan.direction == UP:
         return (True,)
@@ -87,7 +87,7 @@ def _strokes(scan):
     return (True, False)
 
 
-def _latcher(scan, moving_up):
+def stroke_latcher(scan, moving_up):
     """A function from an output change at position z to the latched position."""
     if scan.mode == SLOW:
         return lambda z: z  # read at rest
@@ -102,14 +102,14 @@ def _latcher(scan, moving_up):
 def _ideal_output(layout, window):
     """ON stretches of the ideal line beam (the same both ways: b is 0 or 1), per-wafer spans
     and the runs' wafers, from the analytic engine."""
-    from .scan_result import _exact_intervals, _run_wafers, _stepped_intervals
+    from .scan_result import exact_intervals, run_wafers, stepped_intervals
 
     hits = analytic_engine(layout)
     if isinstance(hits, ExactHits):
-        spans, wafer_spans = _exact_intervals(hits, window)
+        spans, wafer_spans = exact_intervals(hits, window)
     else:
-        spans, wafer_spans = _stepped_intervals(hits, layout.scan, window)
-    names = _run_wafers(spans, layout.wafers, wafer_spans)
+        spans, wafer_spans = stepped_intervals(hits, layout.scan, window)
+    names = run_wafers(spans, layout.wafers, wafer_spans)
     return [(a, b, n) for (a, b), n in zip(spans, names)], wafer_spans
 
 
@@ -185,7 +185,7 @@ def sensed_scan(layout, engine="analytic", progress=None, ray_ranges=None):
         ScanResult,
         SensorRun,
         WaferInterval,
-        _window,
+        pocket_window,
         protruding_slots,
         scan_warnings,
         scanned_range,
@@ -209,8 +209,8 @@ def sensed_scan(layout, engine="analytic", progress=None, ray_ranges=None):
     amplifier = layout.amplifier or DEFAULT_AMPLIFIER
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)
-    window = _window(plan) if scan.mode == SLOW else None
-    moving = _strokes(scan)
+    window = pocket_window(plan) if scan.mode == SLOW else None
+    moving = strokes(scan)
 
     ideal_runs, wafer_spans = _ideal_output(layout, window)
     if spot.ideal:
@@ -223,7 +223,7 @@ def sensed_scan(layout, engine="analytic", progress=None, ray_ranges=None):
     edges = []
     latched = {}
     for up in moving:
-        at = _latcher(scan, up)
+        at = stroke_latcher(scan, up)
         runs = [(at(a), at(b)) if up else (at(b), at(a)) for a, b, _ in outputs[up]]
         latched[up] = runs
         stroke = "up" if up else "down"
@@ -284,11 +284,11 @@ def scan_edges(result):
     if result.edges:
         return list(result.edges)
     scan = result.layout.scan
-    moving = _strokes(scan)
+    moving = strokes(scan)
     edges = []
     for up in moving:
         stroke = "up" if up else "down"
-        at = _latcher(scan, up) if len(moving) == 2 else None
+        at = stroke_latcher(scan, up) if len(moving) == 2 else None
         ordered = sorted(result.runs, key=lambda r: r.bottom, reverse=not up)
         for run in ordered:
             if at is None:

@@ -331,7 +331,7 @@ def tine_points(layout, z, advance, turn):
     return (emitter, tuple(o + beam.length * d for o, d in zip(emitter, beam.direction)))
 
 
-def _tine_inside(point, direction, wafer, tol):
+def tine_inside(point, direction, wafer, tol):
     """True when the point lies in the wafer's solid (grown by ``tol``): the engines' exact
     per-ray test on a beam of length 0 at the point."""
     return beam_hits_wafer(point, Beam(point, direction, 0.0), wafer, tol)
@@ -354,7 +354,7 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
     def inside(turn):
         x, y = _turn_xy(px, py, wx, wy, turn)
         dx, dy = _turn_xy(beam.direction[0], beam.direction[1], 0.0, 0.0, turn)
-        return _tine_inside((x, y, pz), (dx, dy, beam.direction[2]), wafer, tol)
+        return tine_inside((x, y, pz), (dx, dy, beam.direction[2]), wafer, tol)
 
     level = exact and wafer.normal[0] == 0.0 and wafer.normal[1] == 0.0 and not wafer.bow
     if level:

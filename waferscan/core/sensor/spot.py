@@ -109,7 +109,7 @@ def spot_frame(direction, lift_axis):
     return u, v, alpha, beta
 
 
-def _column_positions(spot, columns):
+def column_positions(spot, columns):
     """Column offsets s across the spot (mm), from one side to the other."""
     w = spot.half_width
     return [-w + 2.0 * w * i / columns for i in range(columns + 1)]
@@ -123,7 +123,7 @@ def _chord_half(spot, s):
     return spot.half_height
 
 
-def _extends(piece, s, limits, tol=1e-12):
+def extends_linearly(piece, s, limits, tol=1e-12):
     """Whether the strip ``piece`` (sa, sb, lo_a, lo_b, hi_a, hi_b) continued straight to width
     ``s`` meets ``limits`` (lo, hi) there, to ``tol`` mm."""
     sa, sb, lo_a, lo_b, hi_a, hi_b = piece
@@ -153,13 +153,13 @@ def _centre_ray_range(s, u, beam, axis, wafer, table=None):
 
 
 def column_ranges(layout, wafer, spot, columns=COLUMNS, ray_ranges=None):
-    """For each column of the spot (``_column_positions``), the exact range (tau_lo, tau_hi) of
+    """For each column of the spot (``column_positions``), the exact range (tau_lo, tau_hi) of
     lift translations over which the column's centre ray meets the wafer, or None; read from
     ``ray_ranges`` (a sweep's table worked out beforehand, see MISSING) where it holds them."""
     beam, axis = layout.beam, layout.lift_axis
     u = spot_frame(beam.direction, axis)[0]
     return [_centre_ray_range(s, u, beam, axis, wafer, ray_ranges)
-            for s in _column_positions(spot, columns)]
+            for s in column_positions(spot, columns)]
 
 
 class BlockedFraction:
@@ -178,7 +178,7 @@ class BlockedFraction:
         self.beta = beta
         if ranges is None:
             ranges = [column_ranges(layout, w, spot, columns, ray_ranges) for w in wafers]
-        positions = _column_positions(spot, columns)
+        positions = column_positions(spot, columns)
         at_nodes = [merged_ranges([r[i] for r in ranges if r[i] is not None])
                     for i in range(columns + 1)]
 
@@ -189,7 +189,7 @@ class BlockedFraction:
         pieces = []  # (sa, sb, lo_a, lo_b, hi_a, hi_b)
 
         def add(sa, sb, left, right):
-            if len(left) == 1 and pieces and pieces[-1][1] == sa and _extends(pieces[-1], sb,
+            if len(left) == 1 and pieces and pieces[-1][1] == sa and extends_linearly(pieces[-1], sb,
                                                                               right[0]):
                 # One limit pair running on in a straight line (a level wafer's constant
                 # limits): one wider strip, as exact, and the area is evaluated once.
@@ -243,8 +243,8 @@ class BlockedFraction:
             return np.zeros(tau.shape)
         t = tau.reshape(-1, 1)
         b = self.beta
-        upper = _area_below(self.spot, self._sa, self._sb, b * (self._hi_a - t), b * (self._hi_b - t))
-        lower = _area_below(self.spot, self._sa, self._sb, b * (self._lo_a - t), b * (self._lo_b - t))
+        upper = area_below(self.spot, self._sa, self._sb, b * (self._hi_a - t), b * (self._hi_b - t))
+        lower = area_below(self.spot, self._sa, self._sb, b * (self._lo_a - t), b * (self._lo_b - t))
         fraction = (upper - lower).sum(axis=1) / self.spot.area
         return np.clip(fraction, 0.0, 1.0).reshape(tau.shape)
 
@@ -289,18 +289,18 @@ class GroupedFraction:
             rows = self.slot[group[mask]]
             d = {k: v[rows] for k, v in table.items()}
             t = tau[mask][:, None]
-            upper = self._area_below(width, rows, d, b * (d["_hi_a"] - t), b * (d["_hi_b"] - t))
-            lower = self._area_below(width, rows, d, b * (d["_lo_a"] - t), b * (d["_lo_b"] - t))
+            upper = self.groups_area_below(width, rows, d, b * (d["_hi_a"] - t), b * (d["_hi_b"] - t))
+            lower = self.groups_area_below(width, rows, d, b * (d["_lo_a"] - t), b * (d["_lo_b"] - t))
             out[mask] = (upper - lower).sum(axis=1) / self.spot.area
         return np.clip(out, 0.0, 1.0)
 
-    def _area_below(self, width, rows, d, ya, yb):
+    def groups_area_below(self, width, rows, d, ya, yb):
         """The spot's area under the lines from ``ya`` to ``yb`` over the strips ``d`` (rows
         ``rows`` of the groups of ``width`` strips); a subclass may evaluate it faster."""
-        return _area_below(self.spot, d["_sa"], d["_sb"], ya, yb)
+        return area_below(self.spot, d["_sa"], d["_sb"], ya, yb)
 
 
-def _circle_primitive(s, r):
+def circle_primitive(s, r):
     """Integral of sqrt(r² - s²) ds from 0 to s."""
     import numpy as np
 
@@ -308,7 +308,7 @@ def _circle_primitive(s, r):
     return 0.5 * (s * np.sqrt(np.maximum(r * r - s * s, 0.0)) + r * r * np.arcsin(s / r))
 
 
-def _area_below(spot, sa, sb, ya, yb):
+def area_below(spot, sa, sb, ya, yb):
     """Integral over s in [sa, sb] of clip(y(s), -c(s), c(s)), y linear from ya to yb: the
     spot's area below the line in that strip, less the strip's lower half. Arrays broadcast."""
     import numpy as np
@@ -349,7 +349,7 @@ def _area_below(spot, sa, sb, ya, yb):
         mid_s = 0.5 * (a + bnd)
         mid = m * mid_s + k
         c_mid = np.sqrt(np.maximum(r * r - mid_s * mid_s, 0.0))
-        arc = _circle_primitive(bnd, r) - _circle_primitive(a, r)
+        arc = circle_primitive(bnd, r) - circle_primitive(a, r)
         linear = 0.5 * m * (bnd * bnd - a * a) + k * (bnd - a)
         total += np.where(mid >= c_mid, arc, np.where(mid <= -c_mid, -arc, linear))
     return total

@@ -131,8 +131,8 @@ def needs_scalar_path(layout):
 # --- the vectorised scan ---------------------------------------------------------------------
 
 def scalar_steps(base, draws, i, s, k):
-    """One wafer's stepped interval by the scalar engine (engines._snap_to_grid et al.)."""
-    from ..scan.engines import _is_level, _settled_steps, _snap_to_grid, wafer_edges
+    """One wafer's stepped interval by the scalar engine (engines.snap_to_grid et al.)."""
+    from ..scan.engines import is_level, settled_steps, snap_to_grid, wafer_edges
 
     carrier = base.carrier
     wafer = Wafer(name=f"{carrier.name}_S{s + 1:02d}_{k}",
@@ -146,8 +146,8 @@ def scalar_steps(base, draws, i, s, k):
     edges = wafer_edges(layout, wafer)
     if edges is None:
         return None
-    return (_is_level(layout, wafer) and _settled_steps(layout, edges)) or \
-        _snap_to_grid(layout, wafer, edges)
+    return (is_level(layout, wafer) and settled_steps(layout, edges)) or \
+        snap_to_grid(layout, wafer, edges)
 
 
 def scan_block(base, draws):
@@ -208,7 +208,7 @@ def scan_block(base, draws):
     first[li[valid], wi[valid]] = k_lo[valid]
     lastk[li[valid], wi[valid]] = k_hi[valid]
     run_lo, run_hi, run_ok = _merge_runs(first, lastk)
-    if scan.mode == SLOW:  # only the carrier's pockets are read (scan_result._window)
+    if scan.mode == SLOW:  # only the carrier's pockets are read (scan_result.pocket_window)
         w_lo = max(0, math.ceil((plan.seat_z(1) - 0.5 * plan.pitch - scan.start_z) / step))
         w_hi = min(last, math.floor((plan.seat_z(plan.slot_count) + 0.5 * plan.pitch
                                      - scan.start_z) / step))

@@ -135,9 +135,9 @@ def _line_of(text, table, key=None):
 
 def parse_tolerances(text, source="<tolerances>"):
     """Parse TOL.toml text into ``Tolerances``; ``source`` names it in errors."""
-    from ..files.scenario import _toml
+    from ..files.scenario import parse_toml
 
-    data = _toml(text.lstrip("\ufeff"), source)
+    data = parse_toml(text.lstrip("\ufeff"), source)
 
     def error(message, table, key=None):
         return InputError(source, _line_of(text, table, key), message)

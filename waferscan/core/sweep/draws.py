@@ -55,11 +55,11 @@ def placed_states(layout, carrier, plan):
     opening beyond the protrusion limit protruding, a thin one thin, two in a slot double.
     Returns (states, cross_start)."""
     from ..geometry.beam import wafer_bounds
-    from ..scan.scan_result import _carrier_wafers, protrusion
+    from ..scan.scan_result import carrier_wafers, protrusion
 
     count = carrier.slot_count
     found = {s: [] for s in range(1, count + 1)}
-    for wafer in _carrier_wafers(carrier, layout.wafers):
+    for wafer in carrier_wafers(carrier, layout.wafers):
         z0 = wafer_bounds(wafer)[0][2]
         slot = wafer.slot if wafer.slot is not None else plan.nearest_slot(z0)
         if 1 <= slot <= count:
@@ -254,9 +254,9 @@ def _clipped(name, values):
 
 def _base_bow(base):
     """The INPUT's bow of its carrier's wafers (the first one's; 0 without wafers)."""
-    from ..scan.scan_result import _carrier_wafers
+    from ..scan.scan_result import carrier_wafers
 
-    for wafer in _carrier_wafers(base.carrier, base.layout.wafers):
+    for wafer in carrier_wafers(base.carrier, base.layout.wafers):
         return wafer.bow
     return 0.0
 

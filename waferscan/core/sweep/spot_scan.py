@@ -46,7 +46,7 @@ MISSING = spot_module.MISSING
 def column_offsets(spot, columns=spot_module.COLUMNS):
     """The offsets s (mm) across the spot at which the spot engine asks for a column's range
     first: its columns and the middle of each strip between two (the same floats it computes)."""
-    positions = spot_module._column_positions(spot, columns)
+    positions = spot_module.column_positions(spot, columns)
     middles = [0.5 * (positions[i] + positions[i + 1]) for i in range(columns)]
     return positions + middles
 
@@ -109,7 +109,7 @@ def range_table(layouts, spot, columns=spot_module.COLUMNS):
 
 
 def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
-    """``spot._area_below`` of a round spot, the same floats with less work: the line meets the
+    """``spot.area_below`` of a round spot, the same floats with less work: the line meets the
     circle at s1 <= s2, clipped into [sa, sb], so the four break points are already in order
     (sa, s1, s2, sb) and need no sort (no -0.0 among them: a strip's ends are +0.0 or not zero,
     and the roots' zeros are +0.0); the circle's primitive at sa and sb is the strip's own
@@ -145,7 +145,7 @@ def _round_area_below(spot, sa, sb, ya, yb, primitive_a, primitive_b):
     root = np.sqrt(np.maximum(disc, 0.0))
     c1, c2 = np.clip((-qb - root) / qa, sa, sb), np.clip((-qb + root) / qa, sa, sb)
     pts = (sa, c1, c2, sb)
-    prim = (pa, spot_module._circle_primitive(c1, r), spot_module._circle_primitive(c2, r), pb)
+    prim = (pa, spot_module.circle_primitive(c1, r), spot_module.circle_primitive(c2, r), pb)
     crossing = np.zeros(len(at))
     for j in range(3):
         a, bnd = pts[j], pts[j + 1]
@@ -166,11 +166,11 @@ class RoundSpotFraction(spot_module.GroupedFraction):
     def __init__(self, fractions):
         super().__init__(fractions)
         r = self.spot.half_width
-        self.primitives = {width: (spot_module._circle_primitive(table["_sa"], r),
-                                   spot_module._circle_primitive(table["_sb"], r))
+        self.primitives = {width: (spot_module.circle_primitive(table["_sa"], r),
+                                   spot_module.circle_primitive(table["_sb"], r))
                            for width, table in self.tables.items()}
 
-    def _area_below(self, width, rows, d, ya, yb):
+    def groups_area_below(self, width, rows, d, ya, yb):
         pa, pb = (p[rows] for p in self.primitives[width])
         return _round_area_below(self.spot, d["_sa"], d["_sb"], ya, yb, pa, pb)
 
@@ -211,7 +211,7 @@ def _single_wafer_strips(spot, positions, middles, ranges, middle_ranges):
                     for lo, r, mi in zip(left, right, middle))):
                 return None
         # BlockedFraction's ``add``.
-        if len(left) == 1 and pieces and pieces[-1][1] == sa and spot_module._extends(
+        if len(left) == 1 and pieces and pieces[-1][1] == sa and spot_module.extends_linearly(
                 pieces[-1], sb, right[0]):
             last = pieces[-1]
             pieces[-1] = (last[0], sb, last[2], right[0][0], last[4], right[0][1])
@@ -264,9 +264,9 @@ def _table_strips(spot, rows):
             (np.abs(0.5 * (l1 + r1) - mid_hi) <= tolerance)
         piece = equal | linear
         simple = np.all(piece | (~left & ~right), axis=1)
-        # ``add`` would merge strip i into strip i-1's piece (spot._extends, tol 1e-12): such
+        # ``add`` would merge strip i into strip i-1's piece (spot.extends_linearly, tol 1e-12): such
         # rows are built one strip after another.
-        positions = np.array(spot_module._column_positions(spot, columns))
+        positions = np.array(spot_module.column_positions(spot, columns))
         sa, sb = positions[:-1], positions[1:]
         f = (sb[1:] - sa[:-1]) / (sb[:-1] - sa[:-1])
         lo_line = l0[:, :-1] + f * (r0[:, :-1] - l0[:, :-1]) - r0[:, 1:]
@@ -280,7 +280,7 @@ def _table_strips(spot, rows):
 class _BlockFraction:
     """The blocked fraction of every group of a block of layouts, in one evaluation per number
     of strips: ``spot.GroupedFraction``'s tables with each group's beta (its layout's) beside
-    its strips, read by ``_round_area_below`` (a round spot) or ``spot._area_below``."""
+    its strips, read by ``_round_area_below`` (a round spot) or ``spot.area_below``."""
 
     FIELDS = spot_module.GroupedFraction.FIELDS
 
@@ -331,8 +331,8 @@ class _BlockFraction:
             fields = {name: np.array(values).reshape(len(betas), w)
                       for name, values in zip(self.FIELDS, columns)}
             if spot.round:
-                fields["pa"] = spot_module._circle_primitive(fields["_sa"], r)
-                fields["pb"] = spot_module._circle_primitive(fields["_sb"], r)
+                fields["pa"] = spot_module.circle_primitive(fields["_sa"], r)
+                fields["pb"] = spot_module.circle_primitive(fields["_sb"], r)
             beta_of = np.array(betas)
             where_all = np.flatnonzero(mask)
             # In chunks that stay in the cache (the arrays of one evaluation are ~40 deep).
@@ -348,9 +348,9 @@ class _BlockFraction:
                     lower = _round_area_below(spot, d["_sa"], d["_sb"], b * (d["_lo_a"] - t),
                                               b * (d["_lo_b"] - t), d["pa"], d["pb"])
                 else:
-                    upper = spot_module._area_below(spot, d["_sa"], d["_sb"],
+                    upper = spot_module.area_below(spot, d["_sa"], d["_sb"],
                                                     b * (d["_hi_a"] - t), b * (d["_hi_b"] - t))
-                    lower = spot_module._area_below(spot, d["_sa"], d["_sb"],
+                    lower = spot_module.area_below(spot, d["_sa"], d["_sb"],
                                                     b * (d["_lo_a"] - t), b * (d["_lo_b"] - t))
                 out[at] = (upper - lower).sum(axis=1) / spot.area
         return np.clip(out, 0.0, 1.0)
@@ -365,7 +365,7 @@ def lean_block(layouts, table):
     import numpy as np
 
     from ..scan.scan_result import SensorRun
-    from ..scan.sensing import _latcher, _strokes
+    from ..scan.sensing import stroke_latcher, strokes
     from ..sensor.amplifier import stepped_output
     from ..sensor.spot import DEFAULT_AMPLIFIER, BlockedFraction
 
@@ -373,7 +373,7 @@ def lean_block(layouts, table):
         return []
     spot = layouts[0].spot
     columns = spot_module.COLUMNS
-    positions = spot_module._column_positions(spot, columns)
+    positions = spot_module.column_positions(spot, columns)
     middles = column_offsets(spot)[columns + 1:]
     fraction = _BlockFraction(spot)
     plans = []  # per layout: (groups as (names, z span), group indices in ``fraction``)
@@ -455,7 +455,7 @@ def lean_block(layouts, table):
         scan = layout.scan
         amplifier = layout.amplifier or DEFAULT_AMPLIFIER
         on_level, off_level = amplifier.threshold_on, amplifier.off_level
-        moving = _strokes(scan)
+        moving = strokes(scan)
         out = {up: [] for up in moving}
         peaks = [0.0] * len(groups)
         for g, ((names, _, _), z) in enumerate(zip(groups, mine)):
@@ -472,7 +472,7 @@ def lean_block(layouts, table):
         # sensed_scan's runs.
         latched = {}
         for up in moving:
-            at = _latcher(scan, up)
+            at = stroke_latcher(scan, up)
             latched[up] = [(at(a), at(b)) if up else (at(b), at(a)) for a, b, _ in out[up]]
         runs = []
         if len(moving) == 2 and len(out[True]) == len(out[False]) and all(
