@@ -1,15 +1,17 @@
 """The scenarios the tests start from, written once: where the examples lie (the paper's above
 all) and what the paper's scan reads, the paper's text with a line changed or added, a small
-one-carrier scenario like the paper's and its free wafers, and the tables of a tolerance file
-(TOL.toml)."""
+one-carrier scenario like the paper's and its free wafers, the tables of a tolerance file
+(TOL.toml), and random beams beside random wafers."""
 
+import math
 import re
+from dataclasses import replace
 from pathlib import Path
 
 __all__ = [
     "ROOT", "EXAMPLES", "PAPER", "PAPER_TEXT", "PAPER_CODE", "PAPER_E87", "SLOW_JAB",
     "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "drifted_paper", "with_lines",
-    "one_carrier", "free_wafer", "uniform", "normal", "SWEEP_TOLERANCES",
+    "one_carrier", "free_wafer", "uniform", "normal", "SWEEP_TOLERANCES", "beams_and_wafers",
 ]
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -117,3 +119,35 @@ SWEEP_TOLERANCES = ("\n" + uniform("seat_offset", -0.7, 0.7) + normal("thickness
                     + uniform("sensor_response", 0.0, 0.003)
                     + "[states]\npresent = 0.55\nempty = 0.15\ncross = 0.08\ndouble = 0.08\n"
                       "thin = 0.06\nposition_error = 0.04\nprotruding = 0.04\n")
+
+
+
+# --- Beams and wafers -----------------------------------------------------------------------
+
+def beams_and_wafers(rng, count, lengths=(400.0, 250.0, 120.0), bowed=False):
+    """(emitter, beam, wafer) triples of every kind a translation range meets in a sweep, from a
+    numpy ``rng``: kind 0 a level beam over a level wafer (the closed form), 1 a tilted beam over
+    a level wafer (the rim as two lines), 2 and 3 tilted wafers (the rim a conic); beams of
+    ``lengths`` (some ending inside a wafer); ``bowed`` gives every third wafer a bow."""
+    from waferscan.core.model import Beam, Wafer
+
+    def unit(v):
+        n = math.sqrt(sum(x * x for x in v))
+        return tuple(x / n for x in v)
+
+    cases = []
+    for i in range(count):
+        kind = i % 4
+        tilt = 0.0 if kind in (0, 1) else rng.uniform(-0.05, 0.05)
+        normal = unit((tilt, rng.uniform(-0.05, 0.05) if kind == 3 else 0.0, 1.0))
+        beam_tilt = 0.0 if kind == 0 else rng.uniform(-0.01, 0.01)
+        direction = unit((1.0, rng.uniform(-0.2, 0.2), beam_tilt))
+        length = rng.choice(lengths)
+        emitter = (rng.uniform(-210.0, -150.0), rng.uniform(-160.0, 160.0),
+                   rng.uniform(295.0, 305.0))
+        wafer = Wafer("W", (rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0), 300.0), normal,
+                      300.0, rng.uniform(0.1, 1.5))
+        if bowed and i % 3 == 0:
+            wafer = replace(wafer, bow=rng.uniform(-0.3, 0.3))
+        cases.append((emitter, Beam(emitter, direction, length), wafer))
+    return cases

@@ -3,18 +3,16 @@
 of sampled layouts with a tilted beam, tilted wafers and a 1 mm spot maps exactly as the scalar
 path maps each layout."""
 
-import math
 from dataclasses import replace
 
 import numpy as np
 import pytest
-from scenarios import SWEEP_TOLERANCES
+from scenarios import SWEEP_TOLERANCES, beams_and_wafers
 
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.geometry.beam import TOUCH_TOLERANCE
 from waferscan.core.geometry.ranges import translation_range, translation_ranges
 from waferscan.core.mapping import BOUNDARY, WAFERSCAN
-from waferscan.core.model import Beam, Wafer
 from waferscan.core.sensor import spot as spot_module
 from waferscan.core.sensor.spot import Amplifier, BeamSpot
 from waferscan.core import sweep
@@ -30,36 +28,12 @@ def spot_paper(**changes):
     return replace(read_scenario(PAPER), spot=BeamSpot(diameter=1.0), **changes)
 
 
-def unit(v):
-    n = math.sqrt(sum(x * x for x in v))
-    return tuple(x / n for x in v)
-
-
-def random_cases(rng, count):
-    """Beams, lift axes' wafers and emitters of every kind translation_range meets in a sweep:
-    level and tilted wafers, level and tilted beams, beams ending inside a wafer."""
-    cases = []
-    for i in range(count):
-        kind = i % 4
-        tilt = 0.0 if kind in (0, 1) else rng.uniform(-0.05, 0.05)
-        normal = unit((tilt, rng.uniform(-0.05, 0.05) if kind == 3 else 0.0, 1.0))
-        beam_tilt = 0.0 if kind == 0 else rng.uniform(-0.01, 0.01)
-        direction = unit((1.0, rng.uniform(-0.2, 0.2), beam_tilt))
-        length = rng.choice([400.0, 250.0, 120.0])
-        emitter = (rng.uniform(-210.0, -150.0), rng.uniform(-160.0, 160.0),
-                   rng.uniform(295.0, 305.0))
-        wafer = Wafer("W", (rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0), 300.0), normal,
-                      300.0, rng.uniform(0.1, 1.5))
-        cases.append((emitter, Beam(emitter, direction, length), wafer))
-    return cases
-
-
 @pytest.mark.parametrize("tol", [0.0, TOUCH_TOLERANCE])
 def test_array_ranges_are_the_scalar_functions_bit_for_bit(tol):
     rng = np.random.default_rng(7)
     axis = (0.0, 0.0, 1.0)
     covered_count = 0
-    every = random_cases(rng, 1200)
+    every = beams_and_wafers(rng, 1200)
     for length in (400.0, 250.0, 120.0):
         cases = [c for c in every if c[1].length == length]
         emitter = np.array([c[0] for c in cases])

@@ -2,39 +2,20 @@
 ``translation_range``, wafer by wafer, bit for bit: level and tilted wafers, level and tilted
 beams, bowed wafers, one emitter for all (a sweep's) and one per wafer (a spot's columns)."""
 
-import math
-
 import numpy as np
 import pytest
+from scenarios import beams_and_wafers
 
 from waferscan.core.geometry.beam import TOUCH_TOLERANCE
 from waferscan.core.geometry.ranges import translation_range, translation_ranges
 from waferscan.core.model import Beam, Wafer
 
 
-def unit(v):
-    n = math.sqrt(sum(x * x for x in v))
-    return tuple(x / n for x in v)
-
-
 def cases(rng, count, bowed):
-    """(beam, wafer) pairs of every kind a sweep meets: kind 0 a level beam over a level wafer
-    (the closed form), 1 a tilted beam over a level wafer (the rim as two lines), 2 and 3 tilted
-    wafers (the rim a conic); ``bowed`` gives a third of them a bow."""
-    out = []
-    for i in range(count):
-        kind = i % 4
-        tilt = 0.0 if kind in (0, 1) else rng.uniform(-0.05, 0.05)
-        normal = unit((tilt, rng.uniform(-0.05, 0.05) if kind == 3 else 0.0, 1.0))
-        beam_tilt = 0.0 if kind == 0 else rng.uniform(-0.01, 0.01)
-        direction = unit((1.0, rng.uniform(-0.2, 0.2), beam_tilt))
-        emitter = (rng.uniform(-210.0, -150.0), rng.uniform(-160.0, 160.0),
-                   rng.uniform(295.0, 305.0))
-        bow = rng.uniform(-0.3, 0.3) if bowed and i % 3 == 0 else 0.0
-        wafer = Wafer("W", (rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0), 300.0), normal,
-                      300.0, rng.uniform(0.1, 1.5), bow=bow)
-        out.append((Beam(emitter, direction, 400.0), wafer))
-    return out
+    """(beam, wafer) pairs of every kind a sweep meets (scenarios.beams_and_wafers), the beams
+    400 mm long; ``bowed`` gives a third of them a bow."""
+    return [(beam, wafer) for _, beam, wafer in
+            beams_and_wafers(rng, count, lengths=(400.0,), bowed=bowed)]
 
 
 def arrays(pairs):
