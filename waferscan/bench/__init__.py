@@ -1,11 +1,11 @@
 """``waferscan bench``: SPEC §9's figures measured in one run and checked against its contract.
 
 ``rounds`` times (interleaved rounds, medians); ``workloads``, ``processes``, ``mcs_link`` and
-``animation`` are what is timed; ``targets`` is the contract; ``report`` the whole run and
-``cost_plot`` its plot. Exports (``__all__``) what `waferscan bench` and the tests call."""
+``animation`` are what is timed; ``targets`` is the contract; ``report`` the whole run; its
+plot is ``waferscan.plots.bench``'s. Exports (``__all__``) what `waferscan bench` and the tests call."""
 
+from ..plots.bench import plot
 from .animation import gui_animation
-from .cost_plot import plot
 from .mcs_link import (answered_histories, bench_mcs, mcs_idle, mcs_latency, mcs_poll_cost,
                        mcs_soak)
 from .processes import bench_processes, bench_startup, saved_layout

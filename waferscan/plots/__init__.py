@@ -1,2 +1,2 @@
 """Pictures drawn with matplotlib from what ``core`` computed: the signal b(z), the pockets seen
-from above, the sweep's plots. Nothing here computes a result."""
+from above, the sweep's plots, the bench's costs. Nothing here computes a result."""
