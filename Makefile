@@ -12,13 +12,14 @@ setup:
 demo: setup
 	$(VENV)/bin/waferscan demo --out build/demo
 
+# No pytest cache: CI runs this beside test-freecad1 on the same checkout.
 test: setup
-	$(VENV)/bin/python -m pytest tests -q
+	$(VENV)/bin/python -m pytest tests -q -p no:cacheprovider
 
 # The same tests on FreeCAD 1.0: in a Debian trixie root (built once, cached in
 # /var/cache/waferscan; needs root), with a venv of its own there. See docs/freecad-1.0.md.
 test-freecad1:
-	./scripts/freecad1-run.sh sh -c 'scripts/setup.sh && "$$WAFERSCAN_VENV/bin/python" -m pytest tests -q'
+	./scripts/freecad1-run.sh sh -c 'scripts/setup.sh && "$$WAFERSCAN_VENV/bin/python" -m pytest tests -q -p no:cacheprovider'
 
 # The documentation site, built offline and strictly (a broken link or a page missing from the
 # navigation fails it) into build/site; `make test` builds it too (tests/docs).

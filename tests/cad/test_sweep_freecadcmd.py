@@ -6,7 +6,7 @@ import json
 import os
 
 from commands import freecadcmd
-from scenarios import EXAMPLES, PAPER, ROOT
+from scenarios import EXAMPLES, PAPER
 
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core import sweep
@@ -19,8 +19,9 @@ def test_sweep_under_freecadcmd_with_two_workers_gives_the_librarys_summary(tmp_
     args = ["sweep", str(PAPER), "--tolerances", str(TOLERANCES), "-n", "900", "--seed", "3",
             "--workers", "2", "--json"]
     script = f"import waferscan.cli as c, sys; sys.exit(c.main({args!r}))"
+    # A FreeCAD home of its own: the FreeCAD 1.0 suite may run beside this one on the checkout.
     env = dict(os.environ, FREECAD_USER_HOME=os.environ.get("FREECAD_USER_HOME",
-                                                            str(ROOT / ".fchome")))
+                                                            str(tmp_path / "fchome")))
     done = freecadcmd(script, env=env)
     assert done.returncode == 0, done.stderr[-2000:]
     summary = json.loads(done.stdout[done.stdout.index("{"):])
