@@ -130,6 +130,9 @@ def test_a_folder_removed_and_recreated_is_watched_again_from_seq_1(tmp_path):
     first = watch(folder)
     try:
         assert wait_for(lambda: results_seq(folder) == 5, 120)
+        # The answer's link in history/ follows results.txt: an MCS clearing the folder before
+        # it lands meets "Directory not empty" (seen under load); it clears an idle folder.
+        assert wait_for(lambda: len(os.listdir(folder / "history")) == 5, 60)
         shutil.rmtree(folder)
         folder.mkdir()
         assert wait_for(lambda: (folder / LOCK).exists(), 60)
@@ -201,6 +204,7 @@ def test_the_reset_results_and_history_cleared_then_seq_1_again(tmp_path):
     process = watch(folder)
     try:
         assert wait_for(lambda: results_seq(folder) == 57, 120)
+        assert wait_for(lambda: len(os.listdir(folder / "history")) == 57, 60)  # idle
         os.unlink(folder / "results.txt")  # the reset, in its order (RELIABILITY.md)
         shutil.rmtree(folder / "history")
         os.unlink(folder / "commands.txt")
