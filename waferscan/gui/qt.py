@@ -92,6 +92,29 @@ class _DocumentClosed:
             self.then()
 
 
+class GuiDocumentClosing:
+    """Calls ``then()`` when the GUI side of the document named ``name`` is about to go (its
+    view providers, scene-graph nodes and 3D views still there), however it is closed: a tab,
+    Ctrl+W, File → Close, ``App.closeDocument`` or FreeCAD closing. An App document observer is
+    told only after FreeCAD's GUI has deleted them (touching them then crashed FreeCAD).
+    ``close()`` stops watching."""
+
+    def __init__(self, name, then):
+        self.name, self.then = name, then
+        self._added = True
+        Gui.addDocumentObserver(self)
+
+    def slotDeletedDocument(self, gui_doc):  # noqa: N802 (FreeCAD's name)
+        if gui_doc.Document.Name == self.name:
+            self.then()
+
+    def close(self):
+        if self._added:
+            self._added = False
+            # Later: FreeCAD may be calling this very observer now (removing it deletes it).
+            QtCore.QTimer.singleShot(0, lambda: Gui.removeDocumentObserver(self))
+
+
 def set_progress(bar, value):
     """``bar.setValue(value)`` painted with the next frame instead of at once. QProgressBar
     repaints itself synchronously whenever its text or bar changes; next to FreeCAD's OpenGL
