@@ -43,9 +43,19 @@ class ClosableTaskPanel:
         return True
 
     def follow_document(self, doc):
-        """Shut the panel down and close it when the user closes ``doc``."""
-        self._observer = _DocumentClosed(doc.Name, self._document_closed)
+        """Shut the panel down and close it when the user closes ``doc``; a panel that defines
+        ``object_changed(obj, prop)`` is told of each change of the document's objects (an
+        Undo, a Redo, the property editor) while it is open."""
+        changed = getattr(self, "object_changed", None)
+        self._observer = _DocumentClosed(doc.Name, self._document_closed,
+                                         changed and self._object_changed)
         App.addDocumentObserver(self._observer)
+
+    def _object_changed(self, obj, prop):
+        if not self.is_open():  # closed by FreeCAD (another panel shown): no one to tell
+            self._forget_document()
+            return
+        self.object_changed(obj, prop)
 
     def _document_closed(self):
         self._forget_document()
@@ -82,14 +92,19 @@ class ClosableTaskPanel:
 
 class _DocumentClosed:
     """A FreeCAD document observer that calls ``then()`` when the document named ``name`` is
-    being closed (it can still be read then)."""
+    being closed (it can still be read then), and ``changed(obj, prop)`` (when given) when one
+    of its objects' properties changes."""
 
-    def __init__(self, name, then):
-        self.name, self.then = name, then
+    def __init__(self, name, then, changed=None):
+        self.name, self.then, self.changed = name, then, changed
 
     def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
         if doc.Name == self.name:
             self.then()
+
+    def slotChangedObject(self, obj, prop):  # noqa: N802 (FreeCAD's name)
+        if self.changed is not None and obj.Document.Name == self.name:
+            self.changed(obj, prop)
 
 
 class GuiDocumentClosing:
