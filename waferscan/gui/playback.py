@@ -24,6 +24,11 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_
     if not result.layout.wafers:
         report(f"No wafer in {doc.Label} is tagged, so every slot reads empty. Select the "
                "wafers and use Tag as wafer, then Run scan again.")
+    from ..core.scan.scan_result import BEAM_MISSES
+
+    missed = [w for w in result.warnings if w.startswith(BEAM_MISSES)]
+    if missed:  # said at once, not only when the animation ends: the map it gives is empty
+        report(f"{doc.Label}: {missed[0][0].upper()}{missed[0][1:]}.", error=True)
     return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s, scene)
 
 
