@@ -475,13 +475,17 @@ BEAM_MISSES = "the beam misses "  # how missed_by_beam's warning starts (the GUI
 
 
 def missed_by_beam(layout, beam, wafer_spans):
-    """SPEC §3: the scanned carrier's wafers (and the free ones) that ``beam`` lifted along the
+    """SPEC §3, a fast scan: the scanned carrier's wafers (and the free ones) that ``beam`` lifted along the
     layout's lift axis crosses at no height at all: one warning naming how many and by how much
     the beam passes beside them (a beam set beside the wafers maps every slot empty, silently
     else). ``wafer_spans``: each wafer's scanned span, None where the scan never met it (the
     only ones looked at again, with the closed form). Returns a tuple of at most one sentence."""
     from ..geometry.ranges import translation_range
 
+    if layout.scan.mode == SLOW:
+        # A slow scan's arm may wait in front of the pockets and reach in pocket by pocket
+        # (SPEC §13): its beam at rest beside the wafers is how it is meant.
+        return ()
     carrier = layout.scanned_carrier.name
     mine = [w for w in layout.wafers if w.carrier in (None, carrier)]
     missed = []
