@@ -1,6 +1,8 @@
 """Issue 27, item 3, in the GUI: Run scan of a layout whose beam passes 10 mm in front of every
 wafer says so at once (a message box) and in the panel when the scan ends, in the words of the
-core's warning (tests/core/test_missed_by_beam.py); it was a silent all-empty map."""
+core's warning (tests/core/test_missed_by_beam.py); it was a silent all-empty map. The beam is
+drawn in the 3D view before any scan (it was only while one played), for WaferScan's own
+scanner and for a user's solid tagged as scanner."""
 
 import html
 from pathlib import Path
@@ -27,5 +29,14 @@ def test_a_beam_beside_the_wafers_is_said_at_once_and_when_the_scan_ends(run_gui
     assert gui["code"] == "0" * 25
     assert gui["boxes"] == [f"beside: T{WARNING[1:]}."]
     assert f"Warning: {html.escape(WARNING)}" in gui["status"]
-    for name in ("gui-beam-misses-box.png", "gui-beam-misses-panel.png"):
+    # The scanner's own frame: the beam along its X, 160 mm long.
+    beam = [True, [0.0, 0.0, 0.0], [160.0, 0.0, 0.0]]
+    assert gui["preview_before"] == beam
+    assert gui["preview_during"][0] is False  # the scan draws the beam its own way
+    assert gui["preview_after"] == beam
+    assert gui["own_tagged"] == beam  # Tag as scanner's defaults
+    assert gui["own_moved"] == [True, [0.0, 0.0, 0.0], [50.0, 0.0, 0.0]]
+    assert gui["own_closed"] == [False]
+    for name in ("gui-beam-misses-box.png", "gui-beam-misses-panel.png",
+                 "gui-beam-before-scan.png"):
         assert (ARTIFACTS / name).stat().st_size > 1000

@@ -87,6 +87,9 @@ class PocketAnimation(QtCore.QObject):
                 view.Transparency = 70
         self.closed = False  # ended because the document is being closed
         self._closing = GuiDocumentClosing(doc.Name, self._document_closing)
+        from .beam_preview import previews
+
+        previews.hide(doc)  # the beam is drawn in the animation's colours meanwhile
 
     def play(self):
         if not self.ended:
@@ -107,6 +110,9 @@ class PocketAnimation(QtCore.QObject):
             self.finished.emit()
             return
         try:
+            from .beam_preview import previews
+
+            previews.show(self.doc)
             self.arm.restore()
             self._colour(BEAM_CLEAR)
             for view, value in self._restore_view:

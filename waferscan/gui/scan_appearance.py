@@ -20,6 +20,10 @@ class ScanAppearance:
     rest back."""
 
     def __init__(self, doc, scene, result):
+        from .beam_preview import previews
+
+        self.doc = doc
+        previews.hide(doc)  # the beam is drawn as the scan's, below; back when it ends
         self.beam = scene.scanner().obj
         # Each wafer of the result by its name, as the scene walk found it: the object it shows
         # through links (the one whose colour the 3D view draws).
@@ -89,7 +93,9 @@ class ScanAppearance:
         """The calls that put the view back, in order (the wafers' colours: ``light(())``):
         each to be made on its own, so that one that fails (its object deleted meanwhile)
         leaves the others."""
-        steps = [self.back_faces.restore]
+        from .beam_preview import previews
+
+        steps = [self.back_faces.restore, lambda: previews.show(self.doc)]
         if self.overlay is not None:
             steps.append(self.overlay.remove)
         steps += [lambda v=view, p=prop, x=value: setattr(v, p, x)
