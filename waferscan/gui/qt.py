@@ -53,7 +53,8 @@ class ClosableTaskPanel:
 
     def _object_changed(self, obj, prop):
         if not self.is_open():  # closed by FreeCAD (another panel shown): no one to tell
-            self._forget_document()
+            # Later: FreeCAD is calling this very observer now (removing it deletes it).
+            QtCore.QTimer.singleShot(0, self._forget_document)
             return
         self.object_changed(obj, prop)
 
