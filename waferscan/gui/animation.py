@@ -15,6 +15,7 @@ from PySide import QtCore, QtGui
 from ..cad.stepping import mover_for
 from ..cad.reader import DocumentScene
 from ..core.model import DOWN, UPDOWN
+from .beam_preview import previews
 from .qt import GuiDocumentClosing, set_progress
 from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR, ScanAppearance
 
@@ -54,7 +55,9 @@ class ScanAnimation(QtCore.QObject):
         # The robot (or scanner) moved in the 3D view only, the document left as it is (None:
         # a moved object has no transform node of its own, so through the document).
         self.pose = ViewPose.of(self.mover, self.scan.start_z)
-        # The carriers see-through, the beam drawn thick or over the scanner, until the end.
+        # The carriers see-through, the beam drawn thick or over the scanner, until the end;
+        # its preview (drawn while no scan plays) off the view meanwhile.
+        previews.hide(doc)
         self.appearance = ScanAppearance(doc, scene, result)
         # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
         # raises) is seen by name at every frame and ends the animation.
@@ -161,7 +164,7 @@ class ScanAnimation(QtCore.QObject):
             # Each put back on its own: one that fails (its object deleted) leaves the others.
             undo = [lambda: self.appearance.light(()),
                     self.pose.restore if self.pose is not None else self.mover.restore,
-                    *self.appearance.undo_steps()]
+                    *self.appearance.undo_steps(), lambda: previews.show(self.doc)]
         for step in undo:
             try:
                 step()

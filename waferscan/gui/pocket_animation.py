@@ -19,6 +19,7 @@ from ..cad.pocket_probe import arm_for
 from ..cad.reader import DocumentScene
 from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan import slow_scan
+from .beam_preview import previews
 from .qt import ClosableTaskPanel, GuiDocumentClosing
 from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR  # the beam's colours as the scan's
 JAB_FRAMES, SWEEP_FRAMES = 16, 40  # frames of the jab in (and as many out) and of the sweep
@@ -87,8 +88,6 @@ class PocketAnimation(QtCore.QObject):
                 view.Transparency = 70
         self.closed = False  # ended because the document is being closed
         self._closing = GuiDocumentClosing(doc.Name, self._document_closing)
-        from .beam_preview import previews
-
         previews.hide(doc)  # the beam is drawn in the animation's colours meanwhile
 
     def play(self):
@@ -110,8 +109,6 @@ class PocketAnimation(QtCore.QObject):
             self.finished.emit()
             return
         try:
-            from .beam_preview import previews
-
             previews.show(self.doc)
             self.arm.restore()
             self._colour(BEAM_CLEAR)

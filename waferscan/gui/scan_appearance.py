@@ -20,10 +20,6 @@ class ScanAppearance:
     rest back."""
 
     def __init__(self, doc, scene, result):
-        from .beam_preview import previews
-
-        self.doc = doc
-        previews.hide(doc)  # the beam is drawn as the scan's, below; back when it ends
         self.beam = scene.scanner().obj
         # Each wafer of the result by its name, as the scene walk found it: the object it shows
         # through links (the one whose colour the 3D view draws).
@@ -93,9 +89,7 @@ class ScanAppearance:
         """The calls that put the view back, in order (the wafers' colours: ``light(())``):
         each to be made on its own, so that one that fails (its object deleted meanwhile)
         leaves the others."""
-        from .beam_preview import previews
-
-        steps = [self.back_faces.restore, lambda: previews.show(self.doc)]
+        steps = [self.back_faces.restore]
         if self.overlay is not None:
             steps.append(self.overlay.remove)
         steps += [lambda v=view, p=prop, x=value: setattr(v, p, x)
