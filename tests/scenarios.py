@@ -9,7 +9,8 @@ from dataclasses import replace
 from pathlib import Path
 
 __all__ = [
-    "ROOT", "EXAMPLES", "PAPER", "PAPER_TEXT", "PAPER_CODE", "PAPER_E87", "SLOW_JAB",
+    "ROOT", "EXAMPLES", "PAPER", "PAPER_TEXT", "PAPER_CODE", "PAPER_E87",
+    "PAPER_WITHOUT_ROBOT", "SLOW_JAB",
     "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "drifted_paper", "with_lines",
     "one_carrier", "free_wafer", "uniform", "normal", "SWEEP_TOLERANCES", "beams_and_wafers",
 ]
@@ -31,6 +32,8 @@ SLOW_JAB_TEXT = SLOW_JAB.read_text(encoding="utf-8")
 # Without its [robot]: a robot refuses a beam that is not horizontal before the scanner's own
 # checks are reached; the scanner alone is moved by its placement (SPEC §13).
 SLOW_JAB_WITHOUT_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", SLOW_JAB_TEXT)
+# The paper's scanner alone, moved by its placement, the same way.
+PAPER_WITHOUT_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", PAPER_TEXT)
 
 
 def paper_with(folder, old, new, name="s.toml"):

@@ -15,7 +15,8 @@ from PySide import QtCore, QtGui
 from ..cad.stepping import mover_for
 from ..cad.reader import DocumentScene
 from ..core.model import DOWN, UPDOWN
-from .qt import set_progress
+from .beam_preview import previews
+from .qt import GuiDocumentClosing, set_progress
 from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR, ScanAppearance
 
 EXACT_FRAMES = 2000  # an exact scan (z_step = 0) has no steps: it is drawn at this many
@@ -54,7 +55,9 @@ class ScanAnimation(QtCore.QObject):
         # The robot (or scanner) moved in the 3D view only, the document left as it is (None:
         # a moved object has no transform node of its own, so through the document).
         self.pose = ViewPose.of(self.mover, self.scan.start_z)
-        # The carriers see-through, the beam drawn thick or over the scanner, until the end.
+        # The carriers see-through, the beam drawn thick or over the scanner, until the end;
+        # its preview (drawn while no scan plays) off the view meanwhile.
+        previews.hide(doc)
         self.appearance = ScanAppearance(doc, scene, result)
         # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
         # raises) is seen by name at every frame and ends the animation.
@@ -85,6 +88,8 @@ class ScanAnimation(QtCore.QObject):
         self.bar.setFormat("scanning %p %")
         Gui.getMainWindow().statusBar().addPermanentWidget(self.bar)
         self.ended = False
+        self.closed = False
+        self._closing = GuiDocumentClosing(doc.Name, self._document_closing)
 
     def position(self, frame):
         """The scan position shown at a frame, in the scan's direction."""
@@ -138,16 +143,28 @@ class ScanAnimation(QtCore.QObject):
         """The names of the wafers the beam meets now (highlighted in the 3D view)."""
         return self.appearance.lit
 
+    def _document_closing(self):
+        """The document is being closed: end here, while its views still exist, and leave them
+        as they are (they go with it)."""
+        self.closed = True
+        self._end()
+
     def _end(self, completed=False, fault=None):
         if self.ended:
             return
         self.ended = True
         self.timer.stop()
+        self._closing.close()
         self.completed, self.fault = completed, fault
-        # Each put back on its own: one that fails (its object deleted) leaves the others.
-        undo = [lambda: self.appearance.light(()),
-                self.pose.restore if self.pose is not None else self.mover.restore,
-                *self.appearance.undo_steps()]
+        self.views = []
+        if self.closed:  # only the scene-graph nodes held are let go
+            undo = [self.appearance.release] + \
+                ([self.pose.release] if self.pose is not None else [])
+        else:
+            # Each put back on its own: one that fails (its object deleted) leaves the others.
+            undo = [lambda: self.appearance.light(()),
+                    self.pose.restore if self.pose is not None else self.mover.restore,
+                    *self.appearance.undo_steps(), lambda: previews.show(self.doc)]
         for step in undo:
             try:
                 step()
@@ -214,9 +231,14 @@ class ViewPose:
     microsecond to set (a frame's whole move, forward kinematics included, ~0.4 ms).
     ``restore`` puts the view back on the document's placements."""
 
-    def __init__(self, fields):
+    def __init__(self, fields, nodes=()):
         self.fields = fields  # [(object, translation field, rotation field)]
         self.by_name = {obj.Name: (translation, rotation) for obj, translation, rotation in fields}
+        # Held while shown: an object deleted (or its document closed) must not leave the
+        # fields pointing into freed nodes.
+        self.nodes = list(nodes)
+        for node in self.nodes:
+            node.ref()
 
     @classmethod
     def of(cls, mover, z):
@@ -225,7 +247,7 @@ class ViewPose:
         document. ``z``: a scan position, to learn which objects move."""
         from pivy import coin
 
-        fields = []
+        fields, nodes = [], []
         for obj, _ in mover.placements_at(z):
             view = getattr(obj, "ViewObject", None)
             root = getattr(view, "RootNode", None) if view is not None else None
@@ -235,7 +257,8 @@ class ViewPose:
                 return None
             # Fields looked up once: pivy's attribute lookup of a field costs ~20 µs.
             fields.append((obj, node.translation, node.rotation))
-        return cls(fields)
+            nodes.append(node)
+        return cls(fields, nodes)
 
     def show(self, placements):
         """Draw each (object, Placement) there."""
@@ -244,7 +267,7 @@ class ViewPose:
 
     def restore(self):
         """The view shows the document's placements again (each on its own: an object deleted
-        meanwhile is skipped, and said)."""
+        meanwhile is skipped, and said); the nodes are let go."""
         failed = None
         for obj, translation, rotation in self.fields:
             try:
@@ -253,8 +276,15 @@ class ViewPose:
                 failed = failed or exc
                 continue
             _set_fields(translation, rotation, placement)
+        self.release()
         if failed is not None:
             raise failed
+
+    def release(self):
+        """Let go of the nodes held (once)."""
+        nodes, self.nodes, self.fields, self.by_name = self.nodes, [], [], {}
+        for node in nodes:
+            node.unref()
 
 
 def _set_fields(translation, rotation, placement):

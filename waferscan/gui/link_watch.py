@@ -14,25 +14,9 @@ from PySide import QtCore
 from ..cad.mcs_watch import document_scanner
 from ..core.errors import InputError
 from ..core.files.mcs import COMMANDS
-from ..core.files.mcs_link import McsLink, ScanStopped
+from ..core.files.mcs_link import McsLink
 
 __all__ = ["LinkWatch"]
-
-
-def _guarded(doc, scan):
-    """The link's scan, with a document that can no longer be read (closed, objects gone)
-    answered as an error instead of stopping the link."""
-
-    def guarded(command, should_stop):
-        try:
-            return scan(command, should_stop)
-        except (InputError, ScanStopped):
-            raise
-        except Exception as exc:
-            raise InputError(getattr(doc, "Label", "document"), None,
-                             f"cannot scan the document: {type(exc).__name__}: {exc}") from None
-
-    return guarded
 
 
 class LinkWatch:
@@ -45,10 +29,13 @@ class LinkWatch:
         self.folder = Path(folder)
         self.watcher = None
         self.timer = None
-        # The link's document scanner: it follows the document's changes.
+        # The link's document scanner: it follows the document's changes. Used as `waferscan
+        # watch` uses it, with nothing around it: every answer, failures included, is then
+        # written as the watcher writes it (issue 27: a CAL that failed was answered "cannot
+        # scan the document: CalibrationError: ..." here).
         self.scanner = document_scanner(doc, folder)
         try:
-            self.link = McsLink(folder, _guarded(doc, self.scanner),
+            self.link = McsLink(folder, self.scanner,
                                 log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
         except InputError:
             self.scanner.close()

@@ -4,9 +4,10 @@ results dialogs once the animation reaches the end."""
 
 from __future__ import annotations
 
+from ..core.errors import WaferScanError
 from . import preferences
 from .dialogs import show_results_dialogs
-from .scanning import scan_and_store
+from .scanning import changed_since, scan_and_store
 from .session import check_no_other_task_panel, report, session, show_task_panel
 
 __all__ = ["run_scan", "play_scan"]
@@ -23,6 +24,11 @@ def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_
     if not result.layout.wafers:
         report(f"No wafer in {doc.Label} is tagged, so every slot reads empty. Select the "
                "wafers and use Tag as wafer, then Run scan again.")
+    from ..core.scan.scan_result import BEAM_MISSES
+
+    missed = [w for w in result.warnings if w.startswith(BEAM_MISSES)]
+    if missed:  # said at once, not only when the animation ends: the map it gives is empty
+        report(f"{doc.Label}: {missed[0][0].upper()}{missed[0][1:]}.", error=True)
     return play_scan(doc, result, steps_per_frame, show_results, panel, duration_s, scene)
 
 
@@ -49,8 +55,16 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
                                     else None, session)
     if panel:
         def replay(seconds):
-            if scan_panel.settings_changed:  # settings edited in the panel: scan with them
-                run_scan(doc, show_results=show_results, duration_s=seconds)
+            # The document changed since the scan (settings applied in the panel, the carrier
+            # or the scanner edited, an Undo): scan it as it is now, and say so.
+            if changed_since(doc, result):
+                try:
+                    run_scan(doc, show_results=show_results, duration_s=seconds)
+                except WaferScanError as exc:
+                    report(f"Replay: {doc.Label} cannot be scanned as it is now: {exc}",
+                           error=True)
+                    return
+                session.task_panel.say_rescanned()
             else:
                 play_scan(doc, result, show_results=show_results, duration_s=seconds)
         scan_panel = ScanTaskPanel(animation, on_completed, replay)

@@ -19,7 +19,8 @@ from ..cad.pocket_probe import arm_for
 from ..cad.reader import DocumentScene
 from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan import slow_scan
-from .qt import ClosableTaskPanel
+from .beam_preview import previews
+from .qt import ClosableTaskPanel, GuiDocumentClosing
 from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR  # the beam's colours as the scan's
 JAB_FRAMES, SWEEP_FRAMES = 16, 40  # frames of the jab in (and as many out) and of the sweep
 FRAME_MS = 10
@@ -85,17 +86,30 @@ class PocketAnimation(QtCore.QObject):
             if view is not None and "Transparency" in view.PropertiesList:
                 self._restore_view.append((view, view.Transparency))
                 view.Transparency = 70
+        self.closed = False  # ended because the document is being closed
+        self._closing = GuiDocumentClosing(doc.Name, self._document_closing)
+        previews.hide(doc)  # the beam is drawn in the animation's colours meanwhile
 
     def play(self):
         if not self.ended:
             self.timer.start(FRAME_MS)
+
+    def _document_closing(self):
+        """The document is being closed: end now, leaving the view to go with it."""
+        self.closed = True
+        self.stop()
 
     def stop(self):
         if self.ended:
             return
         self.ended = True
         self.timer.stop()
+        self._closing.close()
+        if self.closed:
+            self.finished.emit()
+            return
         try:
+            previews.show(self.doc)
             self.arm.restore()
             self._colour(BEAM_CLEAR)
             for view, value in self._restore_view:

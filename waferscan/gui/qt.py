@@ -43,9 +43,20 @@ class ClosableTaskPanel:
         return True
 
     def follow_document(self, doc):
-        """Shut the panel down and close it when the user closes ``doc``."""
-        self._observer = _DocumentClosed(doc.Name, self._document_closed)
+        """Shut the panel down and close it when the user closes ``doc``; a panel that defines
+        ``object_changed(obj, prop)`` is told of each change of the document's objects (an
+        Undo, a Redo, the property editor) while it is open."""
+        changed = getattr(self, "object_changed", None)
+        self._observer = _DocumentClosed(doc.Name, self._document_closed,
+                                         changed and self._object_changed)
         App.addDocumentObserver(self._observer)
+
+    def _object_changed(self, obj, prop):
+        if not self.is_open():  # closed by FreeCAD (another panel shown): no one to tell
+            # Later: FreeCAD is calling this very observer now (removing it deletes it).
+            QtCore.QTimer.singleShot(0, self._forget_document)
+            return
+        self.object_changed(obj, prop)
 
     def _document_closed(self):
         self._forget_document()
@@ -82,14 +93,42 @@ class ClosableTaskPanel:
 
 class _DocumentClosed:
     """A FreeCAD document observer that calls ``then()`` when the document named ``name`` is
-    being closed (it can still be read then)."""
+    being closed (it can still be read then), and ``changed(obj, prop)`` (when given) when one
+    of its objects' properties changes."""
 
-    def __init__(self, name, then):
-        self.name, self.then = name, then
+    def __init__(self, name, then, changed=None):
+        self.name, self.then, self.changed = name, then, changed
 
     def slotDeletedDocument(self, doc):  # noqa: N802 (FreeCAD's name)
         if doc.Name == self.name:
             self.then()
+
+    def slotChangedObject(self, obj, prop):  # noqa: N802 (FreeCAD's name)
+        if self.changed is not None and obj.Document.Name == self.name:
+            self.changed(obj, prop)
+
+
+class GuiDocumentClosing:
+    """Calls ``then()`` when the GUI side of the document named ``name`` is about to go (its
+    view providers, scene-graph nodes and 3D views still there), however it is closed: a tab,
+    Ctrl+W, File → Close, ``App.closeDocument`` or FreeCAD closing. An App document observer is
+    told only after FreeCAD's GUI has deleted them (touching them then crashed FreeCAD).
+    ``close()`` stops watching."""
+
+    def __init__(self, name, then):
+        self.name, self.then = name, then
+        self._added = True
+        Gui.addDocumentObserver(self)
+
+    def slotDeletedDocument(self, gui_doc):  # noqa: N802 (FreeCAD's name)
+        if gui_doc.Document.Name == self.name:
+            self.then()
+
+    def close(self):
+        if self._added:
+            self._added = False
+            # Later: FreeCAD may be calling this very observer now (removing it deletes it).
+            QtCore.QTimer.singleShot(0, lambda: Gui.removeDocumentObserver(self))
 
 
 def set_progress(bar, value):

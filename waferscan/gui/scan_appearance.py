@@ -78,6 +78,13 @@ class ScanAppearance:
                 self.wafers[name].ViewObject.ShapeColor = WAFER_HIT
         self.lit = names
 
+    def release(self):
+        """The document is being closed: nothing is put back (it all goes with it); only the
+        scene-graph nodes held are let go."""
+        self.back_faces.release()
+        self.overlay = None
+        self.saved_properties = []
+
     def undo_steps(self):
         """The calls that put the view back, in order (the wafers' colours: ``light(())``):
         each to be made on its own, so that one that fails (its object deleted meanwhile)
@@ -237,9 +244,13 @@ class BackFaces:
 
     def restore(self):
         """Draw both sides again, as FreeCAD had them."""
-        saved, self.saved = self.saved, []
-        for hints, ordering, shape_type in reversed(saved):
+        for hints, ordering, shape_type in reversed(self.saved):
             hints.vertexOrdering = ordering
             hints.shapeType = shape_type
+        self.release()
+
+    def release(self):
+        """Let go of the nodes held, as they are (once)."""
+        saved, self.saved = self.saved, []
         for hints, _, _ in saved:
             hints.unref()

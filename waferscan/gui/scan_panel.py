@@ -34,6 +34,12 @@ class ScanTaskPanel(ClosableTaskPanel):
         about.setWordWrap(True)
         from ..core.recipe import describe  # SPEC §11: the recipe the slots are judged by
 
+        # Shown when Replay found the document changed since the scan and scanned it again.
+        self.rescanned = QtGui.QLabel("The document changed since the last scan: Replay "
+                                      "scanned it again.")
+        self.rescanned.setWordWrap(True)
+        self.rescanned.setStyleSheet("color: #b05000;")
+        self.rescanned.hide()
         self.recipe = QtGui.QLabel(f"Recipe: {describe(animation.result.plan)}")
         self.recipe.setWordWrap(True)
         self.recipe.setToolTip("The mapping recipe (ScanSettings' Recipe properties)")
@@ -79,22 +85,22 @@ class ScanTaskPanel(ClosableTaskPanel):
         form.addRow("Playback", self.speed)
         layout_box = QtGui.QVBoxLayout(self.form)
         layout_box.addWidget(about)
+        layout_box.addWidget(self.rescanned)
         layout_box.addWidget(self.recipe)
         layout_box.addLayout(form)
         # Issues 14 and 17: the sensor's and the slow scan's settings, edited where scans run.
         from ..cad.reader import DocumentScene, read_layout
         from .sensor_section import SensorSection
 
-        self.settings_changed = False  # then Replay scans anew (playback.play_scan)
         self.sensor = SensorSection(animation.doc,
                                     lambda doc: read_layout(doc, DocumentScene.of(doc)),
-                                    transaction, self._settings_applied)
+                                    transaction)
         layout_box.addWidget(self.sensor.box)
         from .recipe_section import RecipeSection  # SPEC §11: the recipe, edited here too
 
         self.recipe_section = RecipeSection(animation.doc,
                                             lambda doc: read_layout(doc, DocumentScene.of(doc)),
-                                            transaction, self._settings_applied,
+                                            transaction, None,
                                             animation.result.plan)
         layout_box.addWidget(self.recipe_section.box)
         layout_box.addWidget(self.progress)
@@ -129,8 +135,16 @@ class ScanTaskPanel(ClosableTaskPanel):
             seconds = self.speed.value()
             QtCore.QTimer.singleShot(0, lambda: self.on_replay(seconds))
 
-    def _settings_applied(self):
-        self.settings_changed = True
+    def say_rescanned(self):
+        """Say that this scan was made by Replay because the document had changed."""
+        if self.is_open():
+            self.rescanned.show()
+
+    def object_changed(self, obj, prop):
+        """The document changed (an Undo or Redo, the property editor): the sections show its
+        values (``ClosableTaskPanel.follow_document``)."""
+        for section in (self.sensor, self.recipe_section):
+            section.follow(obj, prop)
 
     def _buttons(self):
         if not self.is_open():  # FreeCAD closed the panel; the animation ran on

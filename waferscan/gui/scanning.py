@@ -17,7 +17,8 @@ from . import preferences
 from .inputs import format_length
 from .session import ask, session, transaction
 
-__all__ = ["open_scenario", "ensure_settings", "check_tagged", "scan_and_store", "result_now"]
+__all__ = ["open_scenario", "ensure_settings", "check_tagged", "scan_and_store", "result_now",
+           "changed_since"]
 
 
 def open_scenario(path):
@@ -129,6 +130,24 @@ def result_now(doc):
     """The document's results as it is now: scanned afresh (a millisecond), so that a wafer
     moved or deleted since the last Run scan is seen. Only Run scan stores them."""
     return _scan_once(doc)[1]
+
+
+def changed_since(doc, result):
+    """Whether ``doc`` now reads as another layout than the one ``result`` scanned (a carrier,
+    a wafer, the scanner or ScanSettings edited since, an Undo): its scan would differ. A
+    document that cannot be read any more has changed too."""
+    from dataclasses import replace
+
+    from ..cad.reader import DocumentScene, read_layout
+
+    try:
+        now = read_layout(doc, DocumentScene.of(doc))
+    except Exception:  # noqa: BLE001 (whatever the reason, the scan shown is not the document's)
+        return True
+    scanned = result.layout
+    if result.asked_scan is not None:  # the scan ran with other settings than those asked
+        scanned = replace(scanned, scan=result.asked_scan)
+    return now != scanned
 
 
 def _scan_once(doc):

@@ -38,6 +38,7 @@ class SettingsSection:
 
     def __init__(self, doc, check, transaction, applied=None):
         self.doc, self.check, self.transaction, self.applied = doc, check, transaction, applied
+        self._applying = False  # Apply is writing: the changes are the fields' own
         self.box = QtGui.QWidget()
         self.toggle = QtGui.QToolButton()
         self.toggle.setText(self.title)
@@ -91,6 +92,7 @@ class SettingsSection:
         if current == values:
             self.message.setText("No change.")
             return False
+        self._applying = True
         try:
             with self.transaction(self.doc, self.undo_name):
                 for prop, value in values.items():
@@ -98,12 +100,28 @@ class SettingsSection:
                 self.check(self.doc)  # the readers' own checks; raising aborts the transaction
         except InputError as exc:
             return self._refused(exc.message)  # the fields keep the typed text, to correct
+        finally:
+            self._applying = False
         changed = ", ".join(p for p in values if values[p] != current[p])
         self.message.setStyleSheet("")
         self.message.setText(f"Written: {changed}. {self.written}")
         if self.applied is not None:
             self.applied()
         return True
+
+    def follow(self, obj, prop):
+        """The document's ``obj.prop`` changed. One of this section's properties of ScanSettings
+        changed by something other than Apply (an Undo or Redo, the property editor): the
+        fields show the document's values again, and the message says so."""
+        if self._applying or prop not in self.properties:
+            return
+        holder = settings_object(self.doc)
+        if holder is None or holder.Name != obj.Name:
+            return
+        self.load()
+        self.message.setStyleSheet("")
+        self.message.setText("Changed in the document (Undo, Redo or the property editor): "
+                             "the fields show its values.")
 
     def _refused(self, why):
         self.message.setStyleSheet("color: #c01010;")

@@ -89,3 +89,6 @@ def install():
 
     features.view_provider = attach
     features.show_saved_visibility = show_saved_visibility
+    from . import beam_preview  # each scanner's beam drawn from the moment it is tagged
+
+    beam_preview.install()

@@ -21,6 +21,7 @@ from .scan_result import (
     WaferInterval,
     exact_intervals,
     latcher,
+    missed_by_beam,
     pocket_window,
     protruding_slots,
     protrusions_by_slot,
@@ -48,8 +49,8 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     scan = layout.scan
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)
-    hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(
-        slow_scan.stepping_layout(layout), progress)  # with a jab, the fork in (SPEC §13)
+    stepping = slow_scan.stepping_layout(layout)  # with a jab, the fork in (SPEC §13)
+    hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(stepping, progress)
     window = pocket_window(plan) if scan.mode == SLOW else None
     if isinstance(hits, ExactHits):
         run_spans, wafer_spans = exact_intervals(hits, window)
@@ -99,6 +100,7 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     notice = slow_scan.slow_fast_notice(scan)  # SPEC §13: a jab or sweep a fast scan ignores
     probe_warnings += [notice] if notice else []
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
-                             scanned_range(scan, window)) + tuple(probe_warnings)
+                             scanned_range(scan, window)) + tuple(probe_warnings) + \
+        missed_by_beam(layout, stepping.beam, wafer_spans)
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings,
                       pockets=pockets)

@@ -443,6 +443,69 @@ def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
     return tuple(warnings)
 
 
+def beam_miss(beam, axis, wafer):
+    """How far (mm) the beam passes beside ``wafer`` at every lift: seen along the lift ``axis``
+    (a unit vector), the distance from the beam's segment to the wafer's outline, 0 when they
+    overlap. Exact for a level wafer (its disc seen from above); for a tilted one, its outline
+    towards the beam (the cylinder's reach in that direction)."""
+    ax, ay, az = axis
+
+    def flat(point):  # the point seen along the axis: its part across it
+        d = point[0] * ax + point[1] * ay + point[2] * az
+        return (point[0] - d * ax, point[1] - d * ay, point[2] - d * az)
+
+    start = flat(beam.emitter)
+    end = flat(tuple(e + beam.length * v for e, v in zip(beam.emitter, beam.direction)))
+    centre = flat(wafer.mid_center)
+    along = tuple(b - a for a, b in zip(start, end))
+    length2 = sum(v * v for v in along)
+    share = 0.0 if length2 == 0.0 else max(0.0, min(1.0, sum(
+        (c - a) * v for c, a, v in zip(centre, start, along)) / length2))
+    gap = tuple(c - a - share * v for c, a, v in zip(centre, start, along))
+    distance = math.sqrt(sum(v * v for v in gap))
+    if distance == 0.0:
+        return 0.0
+    tilt = abs(sum(g * n for g, n in zip(gap, wafer.normal))) / distance
+    reach = wafer.radius * math.sqrt(max(0.0, 1.0 - tilt * tilt)) + 0.5 * wafer.thickness * tilt
+    return max(0.0, distance - reach)
+
+
+SHOWN_NAMES = 3  # wafers named in a warning; the others counted
+BEAM_MISSES = "the beam misses "  # how missed_by_beam's warning starts (the GUI shows it at once)
+
+
+def missed_by_beam(layout, beam, wafer_spans):
+    """SPEC §3, a fast scan: the scanned carrier's wafers (and the free ones) that ``beam`` lifted along the
+    layout's lift axis crosses at no height at all: one warning naming how many and by how much
+    the beam passes beside them (a beam set beside the wafers maps every slot empty, silently
+    else). ``wafer_spans``: each wafer's scanned span, None where the scan never met it (the
+    only ones looked at again, with the closed form). Returns a tuple of at most one sentence."""
+    from ..geometry.ranges import translation_range
+
+    if layout.scan.mode == SLOW:
+        # A slow scan's arm may wait in front of the pockets and reach in pocket by pocket
+        # (SPEC §13): its beam at rest beside the wafers is how it is meant.
+        return ()
+    carrier = layout.scanned_carrier.name
+    mine = [w for w in layout.wafers if w.carrier in (None, carrier)]
+    missed = []
+    for wafer, span in zip(layout.wafers, wafer_spans):
+        if span is None and wafer.carrier in (None, carrier) and \
+                translation_range(beam.emitter, beam, layout.lift_axis, wafer) is None:
+            missed.append((wafer.name, beam_miss(beam, layout.lift_axis, wafer)))
+    if not missed:
+        return ()
+    names = ", ".join(name for name, _ in missed[:SHOWN_NAMES])
+    if len(missed) > SHOWN_NAMES:
+        names += f" and {len(missed) - SHOWN_NAMES} more"
+    low, high = min(m for _, m in missed), max(m for _, m in missed)
+    by = f"{low:.3f} mm" if high - low < 5e-4 else f"{low:.3f} to {high:.3f} mm"
+    count = f"{len(missed)} of the {len(mine)} wafers"
+    return (f"{BEAM_MISSES}{count} at every height ({names}), passing {by} beside "
+            f"{'it' if len(missed) == 1 else 'them'}: their slots read empty; check where the "
+            "scanner's emitter and receiver are",)
+
+
 def run_wafers(run_spans, wafers, wafer_spans):
     """For each run (bottom, top), the names of the wafers whose span overlaps it, in the
     layout's order. The runs are disjoint, so sorted by bottom their tops ascend too: each

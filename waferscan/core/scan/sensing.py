@@ -185,6 +185,7 @@ def sensed_scan(layout, engine="analytic", progress=None, ray_ranges=None):
         ScanResult,
         SensorRun,
         WaferInterval,
+        missed_by_beam,
         pocket_window,
         protruding_slots,
         scan_warnings,
@@ -257,6 +258,7 @@ def sensed_scan(layout, engine="analytic", progress=None, ray_ranges=None):
     warnings = list(scan_warnings(layout, plan, [(a, b) for a, b, _ in outputs[first]], scanned,
                                   unscanned, scanned_range(scan, window))) + warnings
     warnings += missed_wafer_warnings(signal, outputs[first], plan, amplifier)
+    warnings += missed_by_beam(layout, layout.beam, wafer_spans)
     warnings += two_run_warnings(plan, slot_map, spans)  # "boundary" rules only
     return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions,
                       tuple(warnings), edges=tuple(edges), signal=signal, asked_scan=asked)
