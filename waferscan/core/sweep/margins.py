@@ -55,29 +55,74 @@ def key_value(key):
     return float(np.array([bits], dtype=np.uint64).view(np.float64)[0])
 
 
+class DistinctCounts:
+    """Distinct values with their counts, blocks' values gathered and merged once they are as
+    many as those already held (a merge at every block would sort the whole set again each
+    time: ~15 ms a block at 250,000 values)."""
+
+    def __init__(self):
+        import numpy as np
+
+        self._values = np.empty(0)
+        self._counts = np.empty(0, dtype=np.int64)
+        self._pending = []
+        self._pending_size = 0
+
+    def add(self, values):
+        """Gather ``values`` (an array); returns how many distinct values there may be."""
+        import numpy as np
+
+        more, more_counts = np.unique(values, return_counts=True)
+        self._pending.append((more, more_counts))
+        self._pending_size += len(more)
+        if self._pending_size > max(len(self._values), 1 << 12):
+            self._merge()
+        return len(self._values) + self._pending_size
+
+    def _merge(self):
+        import numpy as np
+
+        if not self._pending:
+            return
+        values = np.concatenate([self._values, *(v for v, _ in self._pending)])
+        counts = np.concatenate([self._counts, *(c for _, c in self._pending)])
+        self._pending, self._pending_size = [], 0
+        self._values, where = np.unique(values, return_inverse=True)
+        self._counts = np.zeros(len(self._values), dtype=np.int64)
+        np.add.at(self._counts, where.ravel(), counts)
+
+    def merged(self):
+        """(distinct sorted values, their counts)."""
+        self._merge()
+        return self._values, self._counts
+
+
 class MarginTally:
     """One kind of margin of one partition: its count, smallest and largest, and either its
     distinct values with their counts (``exact``) or a histogram of their order keys' top
     COARSE_BITS bits (``coarse``)."""
 
     def __init__(self):
-        import numpy as np
-
         self.count = 0
         self.low = math.inf
         self.high = -math.inf
-        self.values = np.empty(0)
-        self.counts = np.empty(0, dtype=np.int64)
+        self._distinct = DistinctCounts()
         self.coarse = None
 
     @property
     def exact(self):
         return self.coarse is None
 
+    @property
+    def values(self):
+        return self._distinct.merged()[0] if self.exact else None
+
+    @property
+    def counts(self):
+        return self._distinct.merged()[1] if self.exact else None
+
     def add(self, values):
         """Count a block's margins in."""
-        import numpy as np
-
         if not len(values):
             return
         self.count += len(values)
@@ -85,28 +130,11 @@ class MarginTally:
         self.high = max(self.high, float(values.max()))
         if self.coarse is not None:
             self.coarse += coarse_histogram(values)
-            return
-        self.values, self.counts = merge_counts(self.values, self.counts,
-                                                *np.unique(values, return_counts=True))
-        if len(self.values) > DISTINCT_LIMIT:
-            self.coarse = coarse_histogram(self.values, self.counts)
-            self.values = self.counts = None
-
-
-def merge_counts(values, counts, more, more_counts):
-    """Two sets of distinct sorted values with their counts, as one."""
-    import numpy as np
-
-    at = np.searchsorted(values, more)
-    if len(values) and np.all(at < len(values)) and np.array_equal(values[np.minimum(
-            at, len(values) - 1)], more):
-        counts = counts.copy()
-        np.add.at(counts, at, more_counts)
-        return values, counts
-    merged, where = np.unique(np.concatenate([values, more]), return_inverse=True)
-    totals = np.zeros(len(merged), dtype=np.int64)
-    np.add.at(totals, where.ravel(), np.concatenate([counts, more_counts]))
-    return merged, totals
+        elif self._distinct.add(values) > DISTINCT_LIMIT:
+            values, counts = self._distinct.merged()
+            if len(values) > DISTINCT_LIMIT:
+                self.coarse = coarse_histogram(values, counts)
+                self._distinct = None
 
 
 def coarse_histogram(values, counts=None):
@@ -124,13 +152,12 @@ class BracketTally:
     with counts, or, past DISTINCT_LIMIT, as a histogram over ``fine_bins(low, high)``."""
 
     def __init__(self, low, high):
-        import numpy as np
-
         self.low, self.high = low, high
         self.below = 0
-        self.values = np.empty(0)
-        self.counts = np.empty(0, dtype=np.int64)
+        self._distinct = DistinctCounts()
         self.fine = None
+        # A bracket of one value always sends it: the rounds end there.
+        self.limit = max(1, DISTINCT_LIMIT)
 
     def add(self, ordered):
         """Count a block's margins (sorted) in."""
@@ -144,19 +171,17 @@ class BracketTally:
             return
         if self.fine is not None:
             self.fine += fine_histogram(self.low, self.high, inside)
-            return
-        self.values, self.counts = merge_counts(self.values, self.counts,
-                                                *np.unique(inside, return_counts=True))
-        # (A bracket of one value always sends it: the rounds end there.)
-        if len(self.values) > max(1, DISTINCT_LIMIT):
-            self.fine = fine_histogram(self.low, self.high, self.values, self.counts)
-            self.values = self.counts = None
+        elif self._distinct.add(inside) > self.limit:
+            values, counts = self._distinct.merged()
+            if len(values) > self.limit:
+                self.fine = fine_histogram(self.low, self.high, values, counts)
+                self._distinct = None
 
     def piece(self):
         """(below, distinct values, counts), or (below, None, the fine histogram)."""
         if self.fine is not None:
             return (self.below, None, self.fine)
-        return (self.below, self.values, self.counts)
+        return (self.below, *self._distinct.merged())
 
 
 def fine_bins(low, high):
