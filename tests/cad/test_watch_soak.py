@@ -49,9 +49,20 @@ def test_mixed_commands_stay_within_5_mb_over_4000(tmp_path, engine, layout):
     process = watch(folder, "--engine", engine, "--poll", "0.002", "--layout",
                     EXAMPLES / layout)
     done, samples = 0, []
+
+    def slope_of(samples, upto):
+        measured = [(seq, kib) for seq, kib in samples if seq > upto // 4]
+        seqs, kibs = np.array(measured, dtype=float).T
+        return np.polyfit(seqs, kibs, 1)[0]  # kB a command
+
     try:
-        while done < count:
-            batch = range(done + 1, min(count, done + BATCH) + 1)
+        # RSS moves in steps of pages the allocator takes and gives back, so a short run's slope
+        # is uncertain to ~1 kB a command: a case whose estimate comes near the limit runs on
+        # (up to three times as long) before it is judged, a steady leak staying above it.
+        while done < count or (done < 3 * count and slope_of(samples, done) * SOAK
+                                                    >= 0.6 * LIMIT_KIB):
+            batch = range(done + 1, done + BATCH + 1) if done >= count else \
+                range(done + 1, min(count, done + BATCH) + 1)
             with open(folder / "commands.txt", "a") as handle:
                 handle.write("".join(f"{seq} {COMMANDS[seq % 3]}\n" for seq in batch))
             last = batch[-1]
@@ -63,13 +74,11 @@ def test_mixed_commands_stay_within_5_mb_over_4000(tmp_path, engine, layout):
         out, err = process.communicate(timeout=120)
     assert process.returncode == 0, err[-3000:]
     answered = re.findall(r"^seq (\d+) (\w+): (\w+)", out, re.M)
-    assert [int(seq) for seq, _, _ in answered] == list(range(1, count + 1)), out[-2000:]
+    assert [int(seq) for seq, _, _ in answered] == list(range(1, done + 1)), out[-2000:]
     # Every scan is carried out; a CAL is carried out or answered with its reason.
     assert all(status == "ok" for _, command, status in answered if command != "CAL"), out[-2000:]
-    measured = [(seq, kib) for seq, kib in samples if seq > count // 4]
-    seqs, kibs = np.array(measured, dtype=float).T
-    slope = np.polyfit(seqs, kibs, 1)[0]  # kB a command
+    slope = slope_of(samples, done)
     print(f"{engine} {layout}: {slope:+.3f} kB a command, {slope * SOAK / 1024:+.2f} MB over "
           f"{SOAK:,} (RSS {samples[0][1] / 1024:.1f} -> {samples[-1][1] / 1024:.1f} MB over "
-          f"{count} commands)")
+          f"{done} commands)")
     assert slope * SOAK < LIMIT_KIB, (slope, samples)
