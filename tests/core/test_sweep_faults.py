@@ -223,15 +223,16 @@ def test_a_cluster_that_dies_mid_sweep_ends_it_with_one_line(tmp_path, killed):
         log.close()
 
 
-@pytest.mark.parametrize("n", ["10000000000000", "1" + "0" * 30, "1000000000"])
-def test_an_n_that_cannot_fit_is_refused_before_anything_is_drawn(tmp_path, n):
-    """10^13 was a MemoryError traceback, 10^30 an OverflowError one, 10^9 grew ~9 MB a second
-    until the machine ran out (a sweep keeps its margins, ~400 B a layout, until the summary).
-    Any machine of less than 1.6 TB refuses all three."""
+@pytest.mark.parametrize("n", ["1" + "0" * 30, "14757395258967642"])
+def test_an_n_beyond_the_sweeps_counts_is_refused_before_anything_is_drawn(tmp_path, n):
+    """10^30 was an OverflowError traceback. A sweep's memory no longer grows with N
+    (test_sweep_memory.py: 10^9 and 10^13 are swept, in their time); its counts are 64-bit
+    integers summing up to N x 25² for the paper: 2^63 // 625 + 1 layouts is one too many."""
     done = subprocess.run(sweep(tmp_path, "-n", n, "--workers", "0"), cwd=ROOT,
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2, done.stderr[-3000:]
     assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
-    assert done.stderr.startswith("waferscan: error: -n: ") and " layouts do not fit in this " \
-        "machine's memory (" in done.stderr and "): at most " in done.stderr, done.stderr
+    assert done.stderr.startswith("waferscan: error: -n: ") and " layouts: more than a sweep " \
+        "counts exactly (its counts are 64-bit integers, up to N x slots²): at most " \
+        "14,757,395,258,967,641 layouts of 25 slots\n" in done.stderr, done.stderr
     assert done.stdout == ""

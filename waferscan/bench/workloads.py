@@ -347,8 +347,7 @@ def bench_sweep(paper, rounds, add, quick=False):
     try:
         def on(k):
             parts = sweep.partitions(n_ideal, k * 4)
-            sizes = sweep.block_sizes(n_ideal)
-            runner = DaskPartitions(clients[k], lambda i: sum(sizes[b] for b in parts[i]))
+            runner = DaskPartitions(clients[k], lambda i: sweep.layouts_in(n_ideal, parts[i]))
             return sweep.run_sweep(paper, tolerances, n_ideal, seed=1, partition_count=k * 4,
                                    runner=runner)
 

@@ -1,7 +1,7 @@
 """``waferscan sweep`` on Dask: the INPUT loaded, a ``distributed.LocalCluster`` on this
 machine's cores (or an existing scheduler) started or reached, the partitions of
 ``waferscan.core.sweep`` run on it with a progress line, and what goes wrong there (a bad
-address, workers that die, a sweep that cannot fit) told in one line."""
+address, workers that die, an N beyond the sweep's counts) told in one line."""
 
 from __future__ import annotations
 
@@ -240,8 +240,7 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         raise InputError(input_path, None, str(exc)) from None
     if "beam_tilt" in tolerances.quantities and layout.beam.direction[:2] == (0.0, 0.0):
         raise InputError(tolerance_path, None, "[beam_tilt]: the INPUT's beam runs vertically")
-    if scheduler is None:  # a cluster's memory is checked once connected (below)
-        check_fits(n, layout, machine_memory(), "this machine")
+    check_count(n, layout)
     if workers == 0 and scheduler is None:
         count = partition_count or 1
         return _sweep(layout, tolerances, n, seed, rules, count, None, progress)
@@ -257,17 +256,6 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         # A lost scheduler or its workers are said in one line (ClusterLost); the client's
         # reconnection attempts log tracebacks meanwhile, which are not the user's news.
         _silence_dask_logs()
-        try:
-            limits = [w.get("memory_limit") or 0
-                      for w in client.scheduler_info().get("workers", {}).values()]
-        except Exception:  # noqa: BLE001 (an old scheduler without the figure: not checked)
-            limits = []
-        if limits and all(limits):
-            try:
-                check_fits(n, layout, sum(limits), f"the cluster's {len(limits)} workers")
-            except InputError:
-                client.close()
-                raise
         workers = max(1, len(client.scheduler_info().get("workers", {})))
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
@@ -313,35 +301,23 @@ def _silence_dask_logs():
         logging.getLogger(name).setLevel(logging.CRITICAL + 1)
 
 
-# What a sweep keeps of each layout until its summary is made: the margins of its wafers
-# (float64, a thickness and a position margin a slot), held where its partition ran, and a
-# sorted copy of them: 4 values a slot, 32 bytes. The paper's 25 slots: 800 B a layout
-# (measured: ~400 B; the rest is room for the partition being computed).
-BYTES_PER_SLOT = 32
-MEMORY_SHARE = 0.5  # of the memory there is, a sweep may count on
+# A sweep's counts are 64-bit integers: the sums over layouts of products of a layout's slot
+# counts (core/sweep/tally.py's layout_moments) reach N x S², which must stay below 2**63.
+COUNT_LIMIT = 2 ** 63 - 1
 
 
-def machine_memory():
-    """This machine's physical memory in bytes (None when the system does not say)."""
-    try:
-        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (OSError, ValueError, AttributeError):
-        return None
-
-
-def check_fits(n, layout, memory, where):
-    """InputError (-n) when N layouts' margins cannot fit in ``memory`` bytes: refused before
-    anything is drawn, rather than a machine run out of memory hours later (-n 10^9 grew ~9 MB
-    a second until it did; 10^13 was a MemoryError, 10^30 an OverflowError)."""
-    if not memory:
-        return
-    per_layout = BYTES_PER_SLOT * max(1, layout.scanned_carrier.slot_count)
-    most = int(memory * MEMORY_SHARE) // per_layout
+def check_count(n, layout):
+    """InputError (-n) when N layouts of the INPUT's slots are more than a sweep's counts hold
+    exactly (10^30 was an OverflowError traceback). A sweep's memory does not grow with N
+    (core/sweep/margins.py), so nothing else bounds N: a large N only takes its time, and
+    Ctrl-C ends it."""
+    slots = max(1, layout.scanned_carrier.slot_count)
+    most = COUNT_LIMIT // (slots * slots)
     if n > most:
-        shown = f"{n:,}" if n < 10 ** 15 else f"{n:.3g}"
-        raise InputError("-n", None, f"{shown} layouts do not fit in {where}'s memory "
-                         f"({memory / 2 ** 30:,.1f} GiB; a sweep keeps ~{per_layout} bytes a "
-                         f"layout until its summary): at most {most:,} here")
+        shown = f"{n:,}" if n < 10 ** 21 else f"{n:.3g}"
+        raise InputError("-n", None, f"{shown} layouts: more than a sweep counts exactly (its "
+                         f"counts are 64-bit integers, up to N x slots²): at most {most:,} "
+                         f"layouts of {slots} slots")
 
 
 def _connect(Client, scheduler):
@@ -368,10 +344,9 @@ def _connect(Client, scheduler):
 
 def _sweep(layout, tolerances, n, seed, rules, count, client, progress, address=None):
     parts = sweep.partitions(n, count)
-    sizes = sweep.block_sizes(n)
 
     def sizes_of(i):
-        return sum(sizes[b] for b in parts[i])
+        return sweep.layouts_in(n, parts[i])
 
     runner = None if client is None else DaskPartitions(client, sizes_of, address)
 

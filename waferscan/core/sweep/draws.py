@@ -96,8 +96,21 @@ def block_count(n):
 
 
 def block_sizes(n):
-    """The number of layouts in each block of an N-layout sweep."""
-    return [min(BLOCK_SIZE, n - b * BLOCK_SIZE) for b in range(block_count(n))]
+    """The number of layouts in each block of an N-layout sweep (a list: for small N; a
+    partition asks ``block_size`` block by block)."""
+    return [block_size(n, b) for b in range(block_count(n))]
+
+
+def block_size(n, block):
+    """The number of layouts in block ``block`` of an N-layout sweep."""
+    return min(BLOCK_SIZE, n - block * BLOCK_SIZE)
+
+
+def layouts_in(n, blocks):
+    """The number of layouts in ``blocks`` (contiguous, ascending) of an N-layout sweep."""
+    if not len(blocks):
+        return 0
+    return min(n, (blocks[-1] + 1) * BLOCK_SIZE) - blocks[0] * BLOCK_SIZE
 
 
 def block_rng(seed, block):

@@ -4,9 +4,20 @@ another; a Dask runner elsewhere)."""
 
 from __future__ import annotations
 
-from .draws import block_count
-
 import math
+
+from .draws import block_count
+from .margins import (
+    COARSE_BITS,
+    COARSE_SHIFT,
+    BracketTally,
+    MarginTally,
+    fine_bin_bracket,
+    fine_bins,
+    key_value,
+    order_keys,
+)
+from .tally import partition_margins
 
 # The percentiles the summary gives of each kind of margin.
 PERCENTILES = (1, 5, 50, 95, 99)
@@ -16,75 +27,190 @@ PERCENTILES = (1, 5, 50, 95, 99)
 #
 # The summary needs the margins' order statistics (min, percentiles, max) over every partition,
 # exactly. Rather than bring every partition's margins to one place (40 MB for 100,000
-# layouts, and a sort there that no worker shares), each partition sends every
-# DIGEST_STRIDE-th of its sorted margins; those bound each wanted order statistic between two
-# values, and each partition then sends the few of its margins between them and how many lie
-# below. Two small round trips, the same numbers as sorting everything in one place.
+# layouts, and a sort there that no worker shares), each partition sends a digest of bounded
+# size; the digests bound each wanted order statistic between two values (a bracket), and each
+# partition then sends how many of its margins lie below the bracket and those inside it, as
+# distinct values with counts. A partition with too many distinct values there sends a
+# histogram of the bracket instead, which narrows the bracket for another round (at most four:
+# core/sweep/margins.py). The same numbers as sorting everything in one place.
+#
+# A partition's margins take one of three forms: a sorted array (a partition that kept them
+# all), a MarginTally of distinct values with counts, or a MarginTally's histogram, whose
+# partition draws and scans its blocks again to answer (partition_margins).
 
 DIGEST_STRIDE = 256
 MARGIN_BINS = 60
 
 
+def _sorted(margins):
+    return not isinstance(margins, MarginTally)
+
+
 def partition_digest(part, stride=None):
     """A partition without its margins: its counts and extremes, and of each kind of margin the
-    count, the largest and every ``stride``-th value from the smallest (a sorted sample;
-    default DIGEST_STRIDE)."""
+    count, the smallest, the largest and a digest of bounded size: of a sorted array every
+    ``stride``-th value from the smallest (default DIGEST_STRIDE); of a MarginTally its
+    distinct values with counts, or the non-empty bins of its histogram."""
+    import numpy as np
+
     stride = stride or DIGEST_STRIDE
     out = {k: part[k] for k in ("confusion", "moments", "weakest_peak", "extremes")}
-    out["margins"] = {key: {"count": len(values), "stride": stride,
-                            "samples": values[::stride].copy(),
-                            "max": float(values[-1]) if len(values) else None}
-                      for key, values in part["margins"].items()}
+    out["margins"] = {}
+    for key, values in part["margins"].items():
+        if _sorted(values):
+            digest = {"count": len(values), "stride": stride,
+                      "samples": values[::stride].copy(),
+                      "min": float(values[0]) if len(values) else None,
+                      "max": float(values[-1]) if len(values) else None}
+        else:
+            digest = {"count": values.count, "min": values.low if values.count else None,
+                      "max": values.high if values.count else None}
+            if values.exact:
+                digest.update(values=values.values, counts=values.counts)
+            else:
+                bins = np.flatnonzero(values.coarse)
+                digest.update(bins=bins, bin_counts=values.coarse[bins])
+        out["margins"][key] = digest
     return out
+
+
+def _candidates(kind):
+    """The values at which a digest bounds how many margins lie below."""
+    import numpy as np
+
+    if "samples" in kind:
+        return kind["samples"]
+    if "values" in kind:
+        return kind["values"]
+    bins = kind["bins"].astype(np.uint64)
+    keys = np.concatenate([bins << np.uint64(COARSE_SHIFT),
+                           ((bins + np.uint64(1)) << np.uint64(COARSE_SHIFT)) - np.uint64(1)])
+    return np.array([key_value(k) for k in keys])
+
+
+def _bounds(kind, candidates):
+    """(at most how many margins lie below each candidate, at least how many lie at or below
+    it), from one partition's digest."""
+    import numpy as np
+
+    count = kind["count"]
+    if "samples" in kind:
+        # k samples below v (every stride-th margin from the smallest): between
+        # (k - 1) * stride + 1 and k * stride of the margins lie below v (all when every
+        # sample does).
+        sample, stride = kind["samples"], kind["stride"]
+        a = np.searchsorted(sample, candidates, side="left")
+        b = np.searchsorted(sample, candidates, side="right")
+        return (np.where(a < len(sample), a * stride, count),
+                np.where(b > 0, (b - 1) * stride + 1, 0))
+    if "values" in kind:
+        cum = np.concatenate([[0], np.cumsum(kind["counts"])])
+        return (cum[np.searchsorted(kind["values"], candidates, side="left")],
+                cum[np.searchsorted(kind["values"], candidates, side="right")])
+    # A histogram of order keys: below v at most the margins of the bins starting below v's
+    # key; at or below v at least those of the bins ending at or below it.
+    keys = order_keys(candidates)
+    cum = np.zeros((1 << COARSE_BITS) + 1, dtype=np.int64)
+    cum[kind["bins"] + 1] = kind["bin_counts"]
+    cum = np.cumsum(cum)
+    start = (keys >> np.uint64(COARSE_SHIFT)).astype(np.int64)
+    starts_below = start + (keys & np.uint64((1 << COARSE_SHIFT) - 1) != 0)
+    ends_within = ((keys >> np.uint64(COARSE_SHIFT)) + ((keys & np.uint64(
+        (1 << COARSE_SHIFT) - 1)) == np.uint64((1 << COARSE_SHIFT) - 1))).astype(np.int64)
+    return cum[starts_below], cum[ends_within]
 
 
 def _brackets(digests, key, ranks):
     """For each 0-based rank r of the margins ``key`` of every partition together, values
-    (low, high) with low <= the r-th smallest <= high, from the partitions' samples. A
-    partition's k samples below a value v (every stride-th margin from the smallest) say that
-    between (k - 1) * stride + 1 and k * stride of its margins lie below v (all of them when
-    every sample does)."""
+    (low, high) with low <= the r-th smallest <= high, from the partitions' digests, within
+    the margins' smallest and largest."""
     import numpy as np
 
-    kinds = [d["margins"][key] for d in digests]
-    candidates = np.unique(np.concatenate([kind["samples"] for kind in kinds]))
+    kinds = [d["margins"][key] for d in digests if d["margins"][key]["count"]]
+    smallest = min(kind["min"] for kind in kinds)
+    largest = max(kind["max"] for kind in kinds)
+    candidates = np.unique(np.concatenate([_candidates(kind) for kind in kinds]))
     below_at_most = np.zeros(len(candidates), dtype=np.int64)   # margins < v, at most
     up_to_at_least = np.zeros(len(candidates), dtype=np.int64)  # margins <= v, at least
     for kind in kinds:
-        sample, count, stride = kind["samples"], kind["count"], kind["stride"]
-        a = np.searchsorted(sample, candidates, side="left")
-        below_at_most += np.where(a < len(sample), a * stride, count)
-        b = np.searchsorted(sample, candidates, side="right")
-        up_to_at_least += np.where(b > 0, (b - 1) * stride + 1, 0)
+        most, least = _bounds(kind, candidates)
+        below_at_most += most
+        up_to_at_least += least
     out = []
     for r in ranks:
         i = int(np.searchsorted(below_at_most, r, side="right")) - 1
         j = int(np.searchsorted(up_to_at_least, r + 1, side="left"))
-        out.append((float(candidates[i]) if i >= 0 else -math.inf,
-                    float(candidates[j]) if j < len(candidates) else math.inf))
+        low = float(candidates[i]) if i >= 0 else -math.inf
+        high = float(candidates[j]) if j < len(candidates) else math.inf
+        out.append((max(low, smallest), min(high, largest)))
     return out
 
 
 def partition_details(part, brackets, edges):
     """What a partition adds to the order statistics and histograms: for each kind of margin
-    and each (low, high) of ``brackets[key]``, how many of its margins lie below low and those
-    from low to high as distinct values with their counts (readings on the step grid repeat:
-    a block's ~11,000 thickness margins hold ~26 values); and its histogram over
-    ``edges[key]`` (numpy.histogram's bins), where ``edges`` has the key."""
+    and each (low, high) of ``brackets[key]``, (how many of its margins lie below low, those
+    from low to high as distinct values, their counts) — readings on the step grid repeat: a
+    block's ~11,000 thickness margins hold ~26 values — or, with more distinct values there
+    than a MarginTally keeps, (below, None, their histogram over ``margins.fine_bins(low,
+    high)``); and its histogram over ``edges[key]`` (numpy.histogram's bins), where ``edges``
+    has the key. A partition that keeps only a histogram of its margins draws its blocks
+    again (``tally.partition_margins``)."""
     import numpy as np
 
     out = {}
+    redrawn = {}
     for key, values in part["margins"].items():
         pieces = []
-        for low, high in brackets.get(key, ()):
-            a = int(np.searchsorted(values, low, side="left"))
-            b = int(np.searchsorted(values, high, side="right"))
-            pieces.append((a, *np.unique(values[a:b], return_counts=True)))
         hist = None
-        if edges.get(key) is not None:
-            hist = np.histogram(values, bins=edges[key])[0]
+        if _sorted(values):
+            for low, high in brackets.get(key, ()):
+                a = int(np.searchsorted(values, low, side="left"))
+                b = int(np.searchsorted(values, high, side="right"))
+                pieces.append((a, *np.unique(values[a:b], return_counts=True)))
+            if edges.get(key) is not None:
+                hist = np.histogram(values, bins=edges[key])[0]
+        elif values.exact:
+            cum = np.concatenate([[0], np.cumsum(values.counts)])
+            for low, high in brackets.get(key, ()):
+                a = int(np.searchsorted(values.values, low, side="left"))
+                b = int(np.searchsorted(values.values, high, side="right"))
+                pieces.append((int(cum[a]), values.values[a:b], values.counts[a:b]))
+            if edges.get(key) is not None:
+                hist = np.histogram(values.values, bins=edges[key], weights=values.counts)[0]
+        else:
+            redrawn[key] = [BracketTally(low, high) for low, high in brackets.get(key, ())]
+            if edges.get(key) is not None:
+                hist = np.zeros(len(edges[key]) - 1, dtype=np.int64)
         out[key] = {"selected": pieces, "histogram": hist}
+    if redrawn:
+        for block in partition_margins(part["source"]):
+            for key, tallies in redrawn.items():
+                for tally in tallies:
+                    tally.add(block[key])
+                if out[key]["histogram"] is not None:
+                    out[key]["histogram"] += np.histogram(block[key], bins=edges[key])[0]
+        for key, tallies in redrawn.items():
+            out[key]["selected"] = [tally.piece() for tally in tallies]
     return out
+
+
+def _narrowed(pieces, bracket, r):
+    """A narrower bracket of the r-th smallest margin from pieces of which one at least is a
+    histogram over ``margins.fine_bins(*bracket)``: the bin holding it."""
+    import numpy as np
+
+    low, high = bracket
+    first, width, bins = fine_bins(low, high)
+    totals = np.zeros(bins, dtype=np.int64)
+    for piece in pieces:
+        if piece[1] is None:
+            totals += piece[2]
+        elif len(piece[1]):
+            at = ((order_keys(piece[1]) - np.uint64(first)) // np.uint64(width)).astype(np.int64)
+            np.add.at(totals, at, piece[2])
+    below = sum(p[0] for p in pieces)
+    index = int(np.searchsorted(np.cumsum(totals), r - below, side="right"))
+    return fine_bin_bracket(low, high, index)
 
 
 def _nth_between(pieces, r):
@@ -156,49 +282,106 @@ def reduce_partitions(runner, handles, histograms=False):
         found = [d["extremes"][name] for d in digests if d["extremes"][name] is not None]
         extremes[name] = ((min(f[0] for f in found), max(f[1] for f in found)) if found
                           else None)
-    counts, ends, ranks, around, brackets, edges = {}, {}, {}, {}, {}, {}
+    counts, ends, ranks, around, edges = {}, {}, {}, {}, {}
     for key in digests[0]["margins"]:
         held = [d["margins"][key] for d in digests if d["margins"][key]["count"]]
         counts[key] = sum(h["count"] for h in held)
         if not held:
             continue
-        ends[key] = (min(float(h["samples"][0]) for h in held), max(h["max"] for h in held))
+        ends[key] = (min(h["min"] for h in held), max(h["max"] for h in held))
         ranks[key] = _wanted_ranks(counts[key])
         around[key] = _brackets(digests, key, ranks[key])  # one for each rank
-        # Neighbouring ranks (a percentile's two) mostly share a bracket: each asked once.
-        brackets[key] = sorted(set(around[key]))
         if histograms:
             edges[key] = np.histogram_bin_edges(ends[key], bins=MARGIN_BINS)
-    details = runner.apply(partition_details, handles, brackets, edges) if brackets else []
-    margins, hists = {}, {}
+    nth, hists = _order_statistics(runner, handles, ranks, around, edges)
+    margins = {}
     for key, count in counts.items():
         if count == 0:
             margins[key] = None
             continue
-        asked = {bracket: i for i, bracket in enumerate(brackets[key])}
-        nth = {r: _nth_between([d[key]["selected"][asked[b]] for d in details], r)
-               for r, b in zip(ranks[key], around[key])}
         dist = {"count": int(count), "min": ends[key][0]}
         for p in PERCENTILES:
-            dist[f"p{p}"] = float(linear_percentile(count, p, nth.__getitem__))
+            dist[f"p{p}"] = float(linear_percentile(count, p,
+                                                    lambda r, key=key: nth[key, r]))
         dist["max"] = ends[key][1]
         margins[key] = dist
-        if histograms:
-            hists[key] = (sum(d[key]["histogram"] for d in details), edges[key])
     return {"confusion": confusion, "moments": moments, "weakest_peak": weakest,
             "extremes": extremes,
             "margins": margins, "histograms": hists}
 
 
+def _order_statistics(runner, handles, ranks, around, edges):
+    """{(key, rank): the rank-th smallest margin ``key``} from the partitions, starting from
+    the brackets ``around[key]`` (one for each of ``ranks[key]``), and the histograms over
+    ``edges`` (counts, edges). Round by round: a bracket whose margins some partition sent as a
+    histogram is narrowed to the bin holding the rank and asked again."""
+    open_ = {(key, r): b for key in ranks for r, b in zip(ranks[key], around[key])}
+    nth, hists = {}, {}
+    while open_:
+        # Neighbouring ranks (a percentile's two) mostly share a bracket: each asked once.
+        brackets = {}
+        for (key, _), b in open_.items():
+            brackets.setdefault(key, set()).add(b)
+        brackets = {key: sorted(b) for key, b in brackets.items()}
+        details = runner.apply(partition_details, handles, brackets, edges)
+        for key, key_edges in edges.items():
+            hists[key] = (sum(d[key]["histogram"] for d in details), key_edges)
+        edges = {}
+        asked = {key: {b: i for i, b in enumerate(b_list)} for key, b_list in brackets.items()}
+        narrowed = {}
+        for (key, r), b in open_.items():
+            pieces = [d[key]["selected"][asked[key][b]] for d in details]
+            if all(piece[1] is not None for piece in pieces):
+                nth[key, r] = _nth_between(pieces, r)
+            else:
+                narrowed[key, r] = _narrowed(pieces, b, r)
+        open_ = narrowed
+    return nth, hists
+
+
+class Blocks:
+    """Contiguous blocks ``start`` to ``stop`` - 1 of a sweep, held as their ends (a list of
+    N / 500 block numbers would grow with N): iterated, indexed, measured and compared as the
+    list of them."""
+
+    __slots__ = ("start", "stop")
+
+    def __init__(self, start, stop):
+        self.start, self.stop = start, stop
+
+    def __len__(self):
+        return self.stop - self.start
+
+    def __iter__(self):
+        return iter(range(self.start, self.stop))
+
+    def __getitem__(self, index):
+        return range(self.start, self.stop)[index]
+
+    def __eq__(self, other):
+        if isinstance(other, Blocks):
+            return (self.start, self.stop) == (other.start, other.stop)
+        try:
+            return len(other) == len(self) and list(other) == list(self)
+        except TypeError:
+            return NotImplemented
+
+    def __hash__(self):
+        return hash((self.start, self.stop))
+
+    def __repr__(self):
+        return f"Blocks({self.start}, {self.stop})"
+
+
 def partitions(n, count):
     """The blocks of an N-layout sweep split into ``count`` contiguous partitions (fewer when
-    there are fewer blocks)."""
-    blocks = list(range(block_count(n)))
-    count = max(1, min(count, len(blocks)))
-    size, extra = divmod(len(blocks), count)
+    there are fewer blocks), each a ``Blocks``."""
+    total = block_count(n)
+    count = max(1, min(count, total))
+    size, extra = divmod(total, count)
     out, start = [], 0
     for i in range(count):
         end = start + size + (1 if i < extra else 0)
-        out.append(blocks[start:end])
+        out.append(Blocks(start, end))
         start = end
     return out

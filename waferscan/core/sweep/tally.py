@@ -1,13 +1,14 @@
 """A block start to finish (drawn, scanned and compared with what was placed) and a partition's
 tally of its blocks: the confusion counts, the per-layout moments the intervals need, the
-weakest peak of a beam spot and the margins."""
+weakest peak of a beam spot and the margins, counted block by block."""
 
 from __future__ import annotations
 
 from .. import mapping
 from ..mapping import CROSS, DOUBLE, POSITION_ERROR, PRESENT, THIN
 from .block_scan import UNSCANNED, needs_scalar_path, scalar_block, scan_block, spot_block
-from .draws import block_sizes, draw_block
+from .draws import block_size, draw_block
+from .margins import MarginTally
 
 # Summary names, indexed by state code (SPEC §12).
 STATE_KEYS = ("empty", "present", "cross", "double", "thin", "position_error", "protruding",
@@ -120,32 +121,65 @@ def combine_tallies(tallies):
             "weakest_peak": weakest}
 
 
+def block_tallies(base, tolerances, seed, n, blocks):
+    """The ``block_tally`` of each of ``blocks``, one block at a time (drawn, scanned and
+    dropped: a partition's memory does not grow with its blocks)."""
+    for b in blocks:
+        yield block_tally(base, sweep_block(base, tolerances, seed, b, block_size(n, b)))
+
+
+def _ends(values, ends):
+    """(min, max) of ``values`` and the earlier ``ends`` (None: none yet)."""
+    if not len(values):
+        return ends
+    low, high = float(values.min()), float(values.max())
+    return (low, high) if ends is None else (min(ends[0], low), max(ends[1], high))
+
+
 def partition_tally(base, tolerances, seed, n, blocks):
     """The given blocks (a partition) of an N-layout sweep, reduced to what the summary reads:
     the confusion counts, the weakest peak, the extremes of the readings the suggested recipe
-    is built from, and the margins of the truly present wafers, sorted. The margins are the
-    bulk (~22 values a layout); a sweep leaves them where the partition ran and asks them for
-    a few order statistics and a histogram (``reduce_partitions``)."""
+    is built from, and the margins of the truly present wafers (core/sweep/margins.py's
+    MarginTally: their distinct values with counts, or a histogram of them), counted block by
+    block in memory that does not grow with N. ``source`` is what draws the blocks again when
+    the reduction needs margins a histogram does not hold (``reduce_partitions``)."""
     import numpy as np
 
-    sizes = block_sizes(n)
-    tally = combine_tallies([block_tally(base, sweep_block(base, tolerances, seed, b, sizes[b]))
-                             for b in blocks])
-    measured = tally["measured"]
-    th, off = measured["present"]
+    confusion = np.zeros((8, 8), dtype=np.int64)
+    moments = np.zeros((8, 6, 6), dtype=np.int64)
+    weakest = None
+    extremes = dict.fromkeys(("thickness", "offset", "thin_thickness", "double_thickness",
+                              "misplaced_offset"))
+    margins = {"thickness": MarginTally(), "position": MarginTally()}
+    for tally in block_tallies(base, tolerances, seed, n, blocks):
+        confusion += tally["confusion"]
+        moments += tally["moments"]
+        peak = tally.get("weakest_peak", 1.0)
+        weakest = peak if weakest is None else min(weakest, peak)
+        measured = tally["measured"]
+        th, off = measured["present"]
+        for name, values in (("thickness", th), ("offset", off),
+                             ("thin_thickness", measured["thin"][0]),
+                             ("double_thickness", measured["double"][0]),
+                             ("misplaced_offset", np.abs(measured["position_error"][1]))):
+            extremes[name] = _ends(values, extremes[name])
+        for key, values in margin_values(base.plan, tally).items():
+            margins[key].add(values)
+    return {"confusion": confusion, "moments": moments,
+            "weakest_peak": 1.0 if weakest is None else weakest,
+            "extremes": extremes, "margins": margins,
+            "source": (base, tolerances, seed, n, blocks)}
 
-    def ends(values):
-        return (float(values.min()), float(values.max())) if len(values) else None
 
-    extremes = {"thickness": ends(th), "offset": ends(off),
-                "thin_thickness": ends(measured["thin"][0]),
-                "double_thickness": ends(measured["double"][0]),
-                "misplaced_offset": ends(np.abs(measured["position_error"][1]))}
-    return {"confusion": tally["confusion"], "moments": tally["moments"],
-            "weakest_peak": tally["weakest_peak"],
-            "extremes": extremes,
-            "margins": {key: np.sort(values) for key, values in
-                        margin_values(base.plan, tally).items()}}
+def partition_margins(source):
+    """A partition's margins again, block by block, from its ``source`` (``partition_tally``'s):
+    for each block {"thickness": sorted array, "position": sorted array}, the same floats as
+    the first time (each block's draws depend only on the seed and its index)."""
+    import numpy as np
+
+    base = source[0]
+    for tally in block_tallies(*source):
+        yield {key: np.sort(values) for key, values in margin_values(base.plan, tally).items()}
 
 
 def margin_values(plan, tally):
