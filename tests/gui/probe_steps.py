@@ -197,3 +197,10 @@ def replay(what, then, until_ended=True):
     old.replay_button.click()
     wait_for(what, lambda: task_panel() is not old and
              (not until_ended or task_panel().animation.ended), then)
+
+
+def scan_settings():
+    """The active document's ScanSettings object (the one with the recipe's properties)."""
+    import FreeCAD as App
+
+    return next(o for o in App.ActiveDocument.Objects if "ThicknessMin" in o.PropertiesList)

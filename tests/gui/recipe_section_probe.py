@@ -7,15 +7,11 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, open_section, replay, result, scan_paper_layout, start, task_panel, wait_for,
-    window_shot)
+    finish, open_section, replay, result, scan_paper_layout, scan_settings, start, task_panel,
+    wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-
-
-def settings():
-    return next(o for o in App.ActiveDocument.Objects if "ThicknessMin" in o.PropertiesList)
 
 
 def begin():
@@ -38,14 +34,15 @@ def edit_recipe():
     section.fields["ThicknessMax"].setText("0.8")
     result["bad_applied"] = section.apply()
     result["bad_message"] = section.message.text()
-    result["after_bad"] = [settings().ThicknessMin, settings().ThicknessMax,
+    result["after_bad"] = [scan_settings().ThicknessMin, scan_settings().ThicknessMax,
                            App.ActiveDocument.UndoCount - undo_before]
     section.fields["ThicknessMin"].setText("0.66")
     section.fields["ThicknessMax"].setText("")
     section.rules.setCurrentIndex(section.rules.findText("boundary"))
     result["good_applied"] = section.apply()
     result["good_message"] = section.message.text()
-    result["after_good"] = [settings().ThicknessMin, settings().ThicknessMax, settings().Rules,
+    stored = scan_settings()
+    result["after_good"] = [stored.ThicknessMin, stored.ThicknessMax, stored.Rules,
                             App.ActiveDocument.UndoCount - undo_before,
                             App.ActiveDocument.UndoNames[0]]
     window_shot("gui-scan-panel-recipe.png")

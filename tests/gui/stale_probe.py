@@ -8,15 +8,11 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, open_section, replay, result, scan_paper_layout, start, task_panel, wait_for,
-    window_shot)
+    finish, open_section, replay, result, scan_paper_layout, scan_settings, start, task_panel,
+    wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-
-
-def settings():
-    return next(o for o in App.ActiveDocument.Objects if "ThicknessMin" in o.PropertiesList)
 
 
 def begin():
@@ -39,22 +35,22 @@ def undo_apply():
     result["recipe_applied"] = panel.recipe_section.apply()
     panel.sensor.fields["ThresholdOn"].setText("0.7")
     result["sensor_applied"] = panel.sensor.apply()
-    result["document_applied"] = [settings().ThicknessMin, settings().ThresholdOn]
+    result["document_applied"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
     result["fields_applied"] = fields(panel)
     Gui.runCommand("Std_Undo")
     Gui.updateGui()
-    result["document_undone_once"] = [settings().ThicknessMin, settings().ThresholdOn]
+    result["document_undone_once"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
     result["fields_undone_once"] = fields(panel)
     Gui.runCommand("Std_Undo")
     Gui.updateGui()
-    result["document_undone"] = [settings().ThicknessMin, settings().ThresholdOn]
+    result["document_undone"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
     result["fields_undone"] = fields(panel)
     result["messages_undone"] = [panel.recipe_section.message.text(),
                                  panel.sensor.message.text()]
     window_shot("gui-scan-panel-undone.png")
     Gui.runCommand("Std_Redo")
     Gui.updateGui()
-    result["document_redone"] = [settings().ThicknessMin, settings().ThresholdOn]
+    result["document_redone"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
     result["fields_redone"] = fields(panel)
     Gui.runCommand("Std_Undo")  # back to the scanned values for the replays below
     Gui.updateGui()

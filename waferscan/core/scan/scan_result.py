@@ -475,10 +475,10 @@ BEAM_MISSES = "the beam misses "  # how missed_by_beam's warning starts (the GUI
 
 
 def missed_by_beam(layout, beam, wafer_spans):
-    """SPEC §3, a fast scan: the scanned carrier's wafers (and the free ones) that ``beam`` lifted along the
-    layout's lift axis crosses at no height at all: one warning naming how many and by how much
-    the beam passes beside them (a beam set beside the wafers maps every slot empty, silently
-    else). ``wafer_spans``: each wafer's scanned span, None where the scan never met it (the
+    """SPEC §3, a fast scan: the scanned carrier's wafers (and the free ones) that ``beam``,
+    lifted along the layout's lift axis, crosses at no height at all: one warning naming how many
+    and by how much the beam passes beside them (a beam set beside the wafers maps every slot
+    empty, silently else). ``wafer_spans``: each wafer's scanned span, None where the scan never met it (the
     only ones looked at again, with the closed form). Returns a tuple of at most one sentence."""
     from ..geometry.ranges import translation_range
 
@@ -487,7 +487,6 @@ def missed_by_beam(layout, beam, wafer_spans):
         # (SPEC §13): its beam at rest beside the wafers is how it is meant.
         return ()
     carrier = layout.scanned_carrier.name
-    mine = [w for w in layout.wafers if w.carrier in (None, carrier)]
     missed = []
     for wafer, span in zip(layout.wafers, wafer_spans):
         if span is None and wafer.carrier in (None, carrier) and \
@@ -500,7 +499,8 @@ def missed_by_beam(layout, beam, wafer_spans):
         names += f" and {len(missed) - SHOWN_NAMES} more"
     low, high = min(m for _, m in missed), max(m for _, m in missed)
     by = f"{low:.3f} mm" if high - low < 5e-4 else f"{low:.3f} to {high:.3f} mm"
-    count = f"{len(missed)} of the {len(mine)} wafers"
+    mine = sum(1 for w in layout.wafers if w.carrier in (None, carrier))
+    count = f"{len(missed)} of the {mine} wafers"
     return (f"{BEAM_MISSES}{count} at every height ({names}), passing {by} beside "
             f"{'it' if len(missed) == 1 else 'them'}: their slots read empty; check where the "
             "scanner's emitter and receiver are",)
