@@ -25,9 +25,11 @@ from .playback import run_scan
 from .scanning import open_scenario
 from .session import report, session
 from .tagging import tag_selection
+from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 
 __all__ = ["open_scenario", "tag_selection", "run_scan", "calibrate_layout", "open_mcs_panel",
-           "show_results_dialogs", "cross_check", "open_tolerance_study", "session", "record",
+           "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
+           "stop_tolerance_study", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
 
 

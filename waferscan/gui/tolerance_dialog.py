@@ -5,6 +5,11 @@ The sweep runs as ``python -m waferscan.cli sweep`` of the project's venv in a Q
 FreeCAD's own process: Dask's worker processes start the running interpreter, which inside
 FreeCAD is FreeCAD itself; and the GUI stays responsive. The dialog reads the command's progress
 lines (``sweep: 3/8 partitions``) from its stderr, then summary.json and the PNGs it wrote.
+Stop interrupts it as Ctrl-C would (nothing is written to the output folder then).
+
+Run and Stop are recorded as lines of Python (``run_tolerance_study(...)``,
+``stop_tolerance_study()``), as FreeCAD's own commands are: the console shows them and a macro
+replays them. The dialog fits the screen it opens on, and its plots are enlarged by a click.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import sys
 import tempfile
 from pathlib import Path
@@ -22,6 +28,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..addon import ADDON_ROOT, venv_dir
+from .session import session
 
 PROGRESS = re.compile(r"sweep: (\d+)/(\d+) partitions")
 DEFAULT_TOLERANCES = Path(ADDON_ROOT) / "resources" / "examples" / "fab_tolerances.toml"
@@ -60,6 +67,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.errors = []
         self.last_arguments = None  # the command line of the last sweep started
         self._stderr = b""
+        self._stopping = False
         self._scratch = tempfile.mkdtemp(prefix="waferscan-sweep-")
         form = QtGui.QFormLayout()
         self.input_edit = self._file_row(form, "Layout", input_path,
@@ -85,7 +93,11 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.out_edit = QtGui.QLineEdit(out or os.path.join(self._scratch, "out"))
         form.addRow("Output folder", self.out_edit)
         self.run_button = QtGui.QPushButton("Run")
-        self.run_button.clicked.connect(self.start)
+        self.run_button.clicked.connect(self._record_run)
+        self.stop_button = QtGui.QPushButton("Stop")
+        self.stop_button.setToolTip("Interrupt the sweep, as Ctrl-C would: nothing is written")
+        self.stop_button.setEnabled(False)
+        self.stop_button.clicked.connect(lambda: _record("stop_tolerance_study()"))
         self.progress = QtGui.QProgressBar()
         self.progress.setRange(0, 1)
         self.progress.setValue(0)
@@ -94,8 +106,8 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.text = QtGui.QPlainTextEdit()
         self.text.setReadOnly(True)
         self.text.setFont(QtGui.QFont("monospace"))
-        self.confusion_label = QtGui.QLabel()
-        self.margins_label = QtGui.QLabel()
+        self.confusion_label = PlotLabel("Confusion")
+        self.margins_label = PlotLabel("Margins")
         plots = QtGui.QHBoxLayout()
         plots.addWidget(self.confusion_label)
         plots.addWidget(self.margins_label)
@@ -103,12 +115,13 @@ class ToleranceStudyDialog(QtGui.QDialog):
         layout.addLayout(form)
         row = QtGui.QHBoxLayout()
         row.addWidget(self.run_button)
+        row.addWidget(self.stop_button)
         row.addWidget(self.progress, 1)
         layout.addLayout(row)
         layout.addWidget(self.status)
         layout.addWidget(self.text, 1)
-        layout.addLayout(plots)
-        self.resize(1000, 800)
+        layout.addLayout(plots, 1)
+        self.resize(*fitted_size(1000, 800, self.parentWidget()))
 
     def _file_row(self, form, label, value, pattern, placeholder=""):
         edit = QtGui.QLineEdit(value)
@@ -140,10 +153,46 @@ class ToleranceStudyDialog(QtGui.QDialog):
                 str(self.seed_spin.value()), "--workers", str(self.workers_spin.value()),
                 "--out", self.out_edit.text().strip()]
 
+    def settings(self):
+        """The fields as ``run_tolerance_study``'s keyword arguments."""
+        return {"input_path": self.input_edit.text().strip(),
+                "tolerances": self.tolerance_edit.text().strip(), "n": self.n_spin.value(),
+                "seed": self.seed_spin.value(), "workers": self.workers_spin.value(),
+                "out": self.out_edit.text().strip()}
+
+    def _record_run(self):
+        """Run, as the line a script would write (the dialog's fields as its arguments)."""
+        arguments = ", ".join(f"{key}={value!r}" for key, value in self.settings().items())
+        _record(f"run_tolerance_study({arguments})")
+
+    def apply_settings(self, input_path="", tolerances=None, n=None, seed=None, workers=None,
+                       out=None):
+        """Set the fields that are given (None leaves a field as it is)."""
+        for edit, value in ((self.input_edit, input_path), (self.tolerance_edit, tolerances),
+                            (self.out_edit, out)):
+            if value is not None:
+                edit.setText(str(value))
+        for spin, value in ((self.n_spin, n), (self.seed_spin, seed),
+                            (self.workers_spin, workers)):
+            if value is not None:
+                spin.setValue(int(value))
+
+    def stop(self):
+        """Interrupt a running sweep as Ctrl-C would; it ends as "stopped"."""
+        if self.process is None:
+            return
+        self.status.setText("stopping the sweep…")
+        self.stop_button.setEnabled(False)
+        self._stopping = True
+        pid = int(self.process.processId())
+        if pid > 0:
+            os.kill(pid, signal.SIGINT)
+
     def start(self):
         """Run the sweep in a QProcess; the progress bar follows its progress lines."""
         if self.process is not None:
             return
+        self._stopping = False
         try:
             args = self.arguments()
         except ValueError as exc:
@@ -154,11 +203,12 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.summary = None
         self._stderr = b""
         self.text.clear()
-        self.confusion_label.clear()
-        self.margins_label.clear()
+        self.confusion_label.set_plot(None)
+        self.margins_label.set_plot(None)
         self.progress.setRange(0, 0)  # busy until the first partition is in
         self.status.setText("starting the Dask workers…")
         self.run_button.setEnabled(False)
+        self.stop_button.setEnabled(True)
         process = QtCore.QProcess(self)
         env = QtCore.QProcessEnvironment.systemEnvironment()
         env.insert("PYTHONPATH", str(ADDON_ROOT))
@@ -182,6 +232,16 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self._read_progress()
         self.process = None
         self.run_button.setEnabled(True)
+        self.stop_button.setEnabled(False)
+        if self._stopping:
+            self._stopping = False
+            self.state = "stopped"
+            self.progress.setRange(0, 1)
+            self.progress.setValue(0)
+            self.status.setText("stopped: the sweep was interrupted; nothing was written to "
+                                f"{self.out_edit.text().strip()}")
+            App.Console.PrintMessage("WaferScan: tolerance study stopped\n")
+            return
         if code != 0:
             lines = self._stderr.decode("utf-8", "replace").strip().splitlines()
             errors = [line for line in lines if "error" in line.lower()]
@@ -194,8 +254,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.text.setPlainText(format_summary(self.summary))
         for label, name in ((self.confusion_label, "confusion.png"),
                             (self.margins_label, "margins.png")):
-            pixmap = QtGui.QPixmap(str(out / name))
-            label.setPixmap(pixmap.scaledToWidth(480, QtCore.Qt.SmoothTransformation))
+            label.set_plot(QtGui.QPixmap(str(out / name)))
         self.progress.setRange(0, 1)
         self.progress.setValue(1)
         self.status.setText(f"done: {self.summary['n']:,} layouts; summary.json, CSV tables "
@@ -214,4 +273,124 @@ class ToleranceStudyDialog(QtGui.QDialog):
         if self.process is not None:
             self.process.kill()
             self.process.waitForFinished(5000)
+        for label in (self.confusion_label, self.margins_label):
+            label.close_window()
         super().closeEvent(event)
+
+
+def fitted_size(width, height, parent=None):
+    """(width, height) no larger than the available part of the screen the dialog opens on
+    (less a margin for the window's frame): a 1000 × 800 dialog on a 1024 × 700 screen
+    would have its buttons off the screen."""
+    app = QtGui.QApplication.instance()
+    screen = None
+    if parent is not None and hasattr(parent, "screen"):
+        screen = parent.screen()  # Qt 5.14 and later
+    if screen is None and hasattr(app, "primaryScreen"):
+        screen = app.primaryScreen()
+    if screen is None:
+        return width, height
+    available = screen.availableGeometry()
+    return (min(width, available.width() - 40), min(height, available.height() - 80))
+
+
+class PlotLabel(QtGui.QLabel):
+    """A plot that scales with the dialog (keeping its proportions) and opens at full size,
+    in a window of its own that can be resized or maximised, when clicked."""
+
+    def __init__(self, title):
+        super().__init__()
+        self.title = title
+        self.plot = None  # the PNG at its own size
+        self.enlarged = None
+        self.setMinimumSize(160, 100)
+        self.setAlignment(QtCore.Qt.AlignCenter)
+        self.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Ignored)
+
+    def set_plot(self, pixmap):
+        self.plot = None if pixmap is None or pixmap.isNull() else pixmap
+        self.setCursor(QtCore.Qt.PointingHandCursor if self.plot else QtCore.Qt.ArrowCursor)
+        self.setToolTip("Click to enlarge" if self.plot else "")
+        self._show_scaled()
+
+    def _show_scaled(self):
+        if self.plot is None:
+            self.clear()
+            return
+        self.setPixmap(self.plot.scaled(self.size(), QtCore.Qt.KeepAspectRatio,
+                                        QtCore.Qt.SmoothTransformation))
+
+    def resizeEvent(self, event):  # noqa: N802 (Qt's name)
+        super().resizeEvent(event)
+        self._show_scaled()
+
+    def mousePressEvent(self, event):  # noqa: N802 (Qt's name)
+        if self.plot is not None and event.button() == QtCore.Qt.LeftButton:
+            self.enlarge()
+        super().mousePressEvent(event)
+
+    def enlarge(self):
+        """The plot in a window of its own, at full size where the screen allows."""
+        if self.plot is None:
+            return None
+        self.close_window()
+        window = QtGui.QDialog(self.window())
+        window.setWindowTitle(f"WaferScan — {self.title}")
+        window.setSizeGripEnabled(True)
+        view = PlotLabel(self.title)
+        layout = QtGui.QVBoxLayout(window)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addWidget(view)
+        window.resize(*fitted_size(self.plot.width(), self.plot.height(), self.window()))
+        view.set_plot(self.plot)
+        view.setCursor(QtCore.Qt.ArrowCursor)
+        view.setToolTip("")
+        view.mousePressEvent = lambda event: None  # already enlarged
+        window.show()
+        self.enlarged = window
+        return window
+
+    def close_window(self):
+        if self.enlarged is not None:
+            try:
+                self.enlarged.close()
+            except RuntimeError:  # already deleted with its parent
+                pass
+            self.enlarged = None
+
+
+def _record(call):
+    from .commands import record  # commands imports this module's callers: not at the top
+
+    record(call)
+
+
+def _open_dialog():
+    """The open tolerance study dialog, or None."""
+    dialog = session.tolerance_study
+    try:
+        return dialog if dialog is not None and dialog.isVisible() else None
+    except RuntimeError:  # closed: Qt deleted it
+        return None
+
+
+def run_tolerance_study(input_path="", tolerances=None, n=None, seed=None, workers=None,
+                        out=None):
+    """Run a tolerance study as the dialog's Run button does: in the open dialog, or in one
+    opened for it, with the given fields (the rest as they are or their defaults). What the
+    Run button records, so a macro replays it. Returns the dialog."""
+    dialog = _open_dialog()
+    if dialog is None:
+        from .dialogs import open_tolerance_study
+
+        dialog = open_tolerance_study()
+    dialog.apply_settings(input_path, tolerances, n, seed, workers, out)
+    dialog.start()
+    return dialog
+
+
+def stop_tolerance_study():
+    """Stop the open dialog's running sweep (what its Stop button records)."""
+    dialog = _open_dialog()
+    if dialog is not None:
+        dialog.stop()
