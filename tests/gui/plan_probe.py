@@ -53,6 +53,24 @@ def begin():
     view.show_slot(8)
     Gui.updateGui()
     dialog.grab().save(artifact("gui-pocket-plan.png"))
+    # The same dialog at the size it opens at: the legend wraps instead of being clipped.
+    small = SlotCodeDialog(scanned)
+    small.show()
+    small.views.setCurrentWidget(small.plan_view)
+    small.plan_view.show_slot(8)
+    Gui.updateGui()
+    canvas = small.plan_view.canvas
+    canvas.repaint()
+    metrics = QtGui.QFontMetricsF(canvas._small_font())
+    result["default_canvas"] = [canvas.width(), canvas.height()]
+    result["default_legend"] = {"box": list(canvas.legend_box),
+                                "one_line_width": metrics.horizontalAdvance(canvas.legend()),
+                                "line_height": metrics.lineSpacing(),
+                                "drawn": [d for d in canvas.drawn if d[0] == "legend"],
+                                "title": list(canvas._title_rect().getRect()),
+                                "title_width": metrics.horizontalAdvance(canvas.plan.title)}
+    small.grab().save(artifact("gui-pocket-plan-default-size.png"))
+    small.close()
     finish()
 
 

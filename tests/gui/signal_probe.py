@@ -35,6 +35,9 @@ def after_animation():
     trace = session.task_panel.trace
     result["live_windows"] = seen
     result["live_cursor"] = trace.cursor
+    trace.repaint()  # the ticks as drawn at the cursor's last position
+    result["live_ticks"] = [list(t) for t in trace.ticks]
+    result["live_width"] = trace.width()
     result["live_samples"] = [list(map(float, a)) for a in trace.samples_in_window()]
     wait_for("the results dialogs", lambda: len(session.dialogs) == 2, dialogs)
 
@@ -48,6 +51,8 @@ def dialogs():
     result["dialog_colours"] = colours(view)
     result["thresholds"] = list(view.thresholds)
     result["edges"] = len(view.edges)
+    view.repaint()
+    result["dialog_ticks"] = [list(t) for t in view.ticks]
     finish()
 
 

@@ -149,3 +149,20 @@ def test_the_dialog_shows_the_fast_and_slow_durations_side_by_side(gui):
 
 def test_a_picture_of_the_dialog_is_left(gui):
     assert (ARTIFACTS / "gui-pocket-plan.png").stat().st_size > 10_000
+
+
+def test_the_legend_wraps_at_the_size_the_dialog_opens_at(gui):
+    """Issue 27 item 15: at the dialog's default size the legend ran off both sides of the
+    canvas, on one line; now it wraps onto lines inside it, whole."""
+    width, height = gui["default_canvas"]
+    legend = gui["default_legend"]
+    assert legend["one_line_width"] > width - 8  # one line would be clipped here
+    x, y, box_width, box_height = legend["box"]
+    assert x >= 0 and x + box_width <= width and y >= 0 and y + box_height <= height
+    assert box_height >= 2 * legend["line_height"] - 1e-6
+    assert "crimson: a tine inside the wafer" in legend["drawn"][0][1]
+    # The title (slot, Z, front, sweep) wraps as well, above the legend.
+    assert legend["title_width"] > width - 8
+    x, y, box_width, box_height = legend["title"]
+    assert x >= 0 and x + box_width <= width and box_height >= 2 * legend["line_height"] - 1e-6
+    assert y + box_height < legend["box"][1]

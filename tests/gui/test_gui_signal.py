@@ -52,3 +52,27 @@ def test_the_slot_code_dialog_draws_the_whole_signal(gui, scenario):
     reddish = sum(n for (r, g, b), n in drawn.items() if r >= 200 and g <= 170 and b <= 170
                   and r - g >= 60)
     assert reddish >= 100
+
+
+def _round_step(ticks):
+    values = [v for v, _ in ticks]
+    steps = {round(b - a, 9) for a, b in zip(values, values[1:])}
+    assert len(steps) == 1, steps
+    step = steps.pop()
+    mantissa = step / 10 ** __import__("math").floor(__import__("math").log10(step))
+    assert round(mantissa, 6) in (1.0, 2.0, 5.0), step
+    return step
+
+
+def test_b_of_z_has_z_tick_labels(gui):
+    """Issue 27 item 15: b(z) had no Z tick labels, only the range in its caption."""
+    ticks = gui["dialog_ticks"]
+    assert len(ticks) >= 3, ticks
+    step = _round_step(ticks)
+    assert 280.0 <= ticks[0][0] < 280.0 + step and 550.0 - step < ticks[-1][0] <= 550.0
+    assert all(label == f"{value:.0f}" for value, label in ticks)  # whole mm at this span
+    live = gui["live_ticks"]  # 3.4 mm of Z around the beam at the end
+    assert len(live) >= 2, live
+    step = _round_step(live)
+    assert all(548.3 - 1e-9 <= value <= 551.7 + 1e-9 for value, _ in live)
+    assert all(float(label) == pytest.approx(value) for value, label in live)

@@ -35,6 +35,7 @@ class PlanCanvas(QtGui.QWidget):
         self.plan = None
         self.state = None
         self.drawn = []
+        self.legend_box = None  # (x, y, width, height) of the legend, as last painted
         self.setMinimumSize(260, 260)
         self.setToolTip("The pocket seen from above, the carrier's opening at the bottom: the "
                         "wafer (filled), a seated wafer (dashed), the beam at the start pose, at "
@@ -58,12 +59,45 @@ class PlanCanvas(QtGui.QWidget):
                 vs.append(v)
         return min(us), max(us), min(vs), max(vs)
 
+    def legend(self):
+        """What the line styles and colours mean, for what this plan draws."""
+        plan = self.plan
+        legend = "dashed: start pose and a seated wafer · dotted: jab's deepest · red: front"
+        if plan.wrist is not None:
+            legend += " · blue/green: sweep's first/last"
+        if plan.strikes:
+            legend += " · crimson: a tine inside the wafer"
+        return legend
+
+    def _wrapped_height(self, text):
+        """The height ``text`` takes wrapped onto lines of the widget's width."""
+        metrics = QtGui.QFontMetricsF(self._small_font())
+        return metrics.boundingRect(QtCore.QRectF(0, 0, self.width() - 8, 1000),
+                                    QtCore.Qt.AlignCenter | QtCore.Qt.TextWordWrap,
+                                    text).height()
+
+    def _legend_rect(self):
+        """Where the legend goes: the bottom of the widget, wrapped onto as many lines as its
+        width needs (one line at 900 px, three at the dialog's default size)."""
+        needed = self._wrapped_height(self.legend())
+        return QtCore.QRectF(4, self.height() - needed - 2, self.width() - 8, needed)
+
+    def _title_rect(self):
+        """Where the title goes: the top, wrapped as the legend is."""
+        return QtCore.QRectF(4, 2, self.width() - 8, self._wrapped_height(self.plan.title))
+
+    def _small_font(self):
+        small = QtGui.QFont(self.font())
+        small.setPointSize(7)
+        return small
+
     def to_pixel(self, u, v):
         """The widget pixel (x, y) of the plan point (u, v) mm, as last fitted."""
         u0, u1, v0, v1 = self._bounds()
-        top = MARGIN_PX + 16  # the title's line
+        top = MARGIN_PX + self._title_rect().height()  # the title's lines
         width = self.width() - 2 * MARGIN_PX
-        height = self.height() - top - MARGIN_PX - 16  # and the legend's
+        # and the legend's lines at the bottom
+        height = self.height() - top - MARGIN_PX - self._legend_rect().height()
         scale = min(width / max(u1 - u0, 1e-9), height / max(v1 - v0, 1e-9))
         x0 = MARGIN_PX + 0.5 * (width - scale * (u1 - u0))
         y0 = top + 0.5 * (height - scale * (v1 - v0))
@@ -79,9 +113,7 @@ class PlanCanvas(QtGui.QWidget):
         painter.setRenderHint(QtGui.QPainter.Antialiasing)
         painter.fillRect(self.rect(), QtGui.QColor(255, 255, 255))
         self.drawn = []
-        small = painter.font()
-        small.setPointSize(7)
-        painter.setFont(small)
+        painter.setFont(self._small_font())
         if self.plan is None:
             painter.drawText(self.rect(), QtCore.Qt.AlignCenter, "no pocket was probed")
             painter.end()
@@ -149,17 +181,14 @@ class PlanCanvas(QtGui.QWidget):
             self.drawn.append(("contact", beam.label))
         self._scale_bar(painter, k)
         painter.setPen(QtGui.QColor(30, 30, 30))
-        painter.drawText(QtCore.QRectF(4, 2, self.width() - 8, 16),
-                         QtCore.Qt.AlignCenter, plan.title)
+        painter.drawText(self._title_rect(), QtCore.Qt.AlignCenter | QtCore.Qt.TextWordWrap,
+                         plan.title)
         self.drawn.append(("title", plan.title))
-        legend = "dashed: start pose and a seated wafer · dotted: jab's deepest · red: front"
-        if plan.wrist is not None:
-            legend += " · blue/green: sweep's first/last"
-        if plan.strikes:
-            legend += " · crimson: a tine inside the wafer"
         painter.setPen(QtGui.QColor(80, 80, 80))
-        painter.drawText(QtCore.QRectF(4, self.height() - 16, self.width() - 8, 14),
-                         QtCore.Qt.AlignCenter, legend)
+        box = self._legend_rect()
+        painter.drawText(box, QtCore.Qt.AlignCenter | QtCore.Qt.TextWordWrap, self.legend())
+        self.legend_box = (box.x(), box.y(), box.width(), box.height())
+        self.drawn.append(("legend", self.legend()))
         painter.end()
 
 
@@ -168,7 +197,7 @@ class PlanCanvas(QtGui.QWidget):
         the wafer, which is round, and of the beams, which are at the bottom)."""
         steps = [m * 10.0 ** e for e in range(1, 7) for m in (1.0, 2.0, 5.0)]
         length = next((s for s in steps if s * k >= 40.0), steps[-1])
-        x, y = MARGIN_PX, MARGIN_PX + 34
+        x, y = MARGIN_PX, MARGIN_PX + self._title_rect().height() + 18
         painter.setPen(QtGui.QPen(QtGui.QColor(40, 40, 40), 1.5))
         painter.drawLine(QtCore.QPointF(x, y), QtCore.QPointF(x + length * k, y))
         for end in (x, x + length * k):

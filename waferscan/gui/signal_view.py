@@ -9,6 +9,8 @@ millimetres either side, as the animation moves it. The slot-code dialog shows t
 
 from __future__ import annotations
 
+import math
+
 from PySide import QtCore, QtGui
 
 from ..core.scan.sensing import scan_edges
@@ -32,6 +34,7 @@ class SignalView(QtGui.QWidget):
         self.edges = scan_edges(result)
         self.span = span
         self.cursor = None
+        self.ticks = []  # (z, label) of the Z ticks, as last painted
         self.setMinimumSize(150, 100)  # fits the scan panel in the default combo view
         spot = result.layout.spot
         what = "an ideal line beam (b is 0 or 1)" if spot is None or spot.ideal else \
@@ -65,7 +68,7 @@ class SignalView(QtGui.QWidget):
         painter.setRenderHint(QtGui.QPainter.Antialiasing)
         painter.fillRect(self.rect(), QtGui.QColor(255, 255, 255))
         low, high = self.window()
-        left, right, top, bottom = 28, self.width() - 6, 6, self.height() - 16
+        left, right, top, bottom = 28, self.width() - 6, 6, self.height() - 28
         width = max(high - low, 1e-9)
 
         def x(z):
@@ -104,10 +107,41 @@ class SignalView(QtGui.QWidget):
             painter.setPen(QtGui.QPen(QtGui.QColor(0, 0, 0), 1))
             painter.drawLine(QtCore.QPointF(x(self.cursor), top),
                              QtCore.QPointF(x(self.cursor), bottom))
+        self._z_ticks(painter, low, high, x, bottom)
         painter.setPen(QtGui.QColor(60, 60, 60))
-        painter.drawText(QtCore.QRectF(left, bottom + 1, right - left, 14), QtCore.Qt.AlignCenter,
+        painter.drawText(QtCore.QRectF(left, bottom + 13, right - left, 14), QtCore.Qt.AlignCenter,
                          f"b(z), Z {low:.2f} to {high:.2f} mm")
         painter.end()
+
+
+    def _z_ticks(self, painter, low, high, x, bottom):
+        """Ticks and labels of Z (mm) under the plot, at a round step (1, 2 or 5 × 10^k) that
+        leaves room for each label."""
+        metrics = QtGui.QFontMetricsF(painter.font())
+        span = max(high - low, 1e-9)
+        pixels = max(x(high) - x(low), 1.0)
+        self.ticks = []
+        for exponent in range(-3, 7):
+            for mantissa in (1.0, 2.0, 5.0):
+                step = mantissa * 10.0 ** exponent
+                decimals = max(0, -exponent)
+                first = math.ceil(low / step - 1e-9)
+                values = [k * step for k in range(first, math.floor(high / step + 1e-9) + 1)]
+                labels = [f"{v:.{decimals}f}" for v in values]
+                widest = max((metrics.horizontalAdvance(t) if hasattr(metrics, "horizontalAdvance")
+                              else metrics.width(t) for t in labels), default=0.0)
+                if step / span * pixels >= widest + 8.0:
+                    break
+            else:
+                continue
+            break
+        painter.setPen(QtGui.QColor(110, 110, 110))
+        for value, label in zip(values, labels):
+            at = x(value)
+            painter.drawLine(QtCore.QPointF(at, bottom), QtCore.QPointF(at, bottom + 3))
+            painter.drawText(QtCore.QRectF(at - 40, bottom + 2, 80, 11), QtCore.Qt.AlignCenter,
+                             label)
+            self.ticks.append((value, label))
 
 
 def live_trace(animation, span=None):
