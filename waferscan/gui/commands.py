@@ -23,7 +23,7 @@ from .dialogs import (calibrate_layout, cross_check, open_mcs_panel, open_tolera
                       show_results_dialogs)
 from .playback import run_scan
 from .scanning import open_scenario
-from .session import report, session
+from .session import record, report, session
 from .tagging import tag_selection
 from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 
@@ -31,14 +31,6 @@ __all__ = ["open_scenario", "tag_selection", "run_scan", "calibrate_layout", "op
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
            "stop_tolerance_study", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
-
-
-def record(call):
-    """Run ``call``, a line of Python on this module's functions, as FreeCAD's own commands do:
-    through ``Gui.doCommand``, so that the Python console shows it and macro recording keeps
-    it, the call a script would make."""
-    Gui.addModule("waferscan.gui.commands")
-    Gui.doCommand(f"waferscan.gui.commands.{call}")
 
 
 def _doc_ref(doc):

@@ -134,13 +134,9 @@ def calibrate_layout(doc):
 def open_tolerance_study(input_path="", **settings):
     """The "Tolerance study…" dialog (SPEC §12), non-modal; ``settings`` preset its fields
     (tolerances, n, seed, workers, out). Returns the dialog."""
-    from .tolerance_dialog import ToleranceStudyDialog
+    from .tolerance_dialog import open_study
 
-    dialog = ToleranceStudyDialog(input_path, **settings)
-    dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
-    dialog.show()
-    session.tolerance_study = dialog
-    return dialog
+    return open_study(input_path, **settings)
 
 
 

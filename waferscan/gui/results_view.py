@@ -12,7 +12,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..cad.results_sheet import COLUMNS, columns, table_cells
-from ..core.files.report import STATE_COLOURS
+from ..core.files.report import STATE_COLOURS, duration_note
 from ..core.mapping import E87, STATE_NAMES
 from .side_view import SideView
 
@@ -132,13 +132,15 @@ class SlotCodeDialog(QtGui.QDialog):
         self.side_view = SideView(result, STATE_COLOURS, self)
         # SPEC §13: the simulated time of a fast and of a slow scan side by side (the trade-off).
         durations = result.durations
+        note = duration_note(result)
         self.duration_label = QtGui.QLabel(
-            f"Simulated duration:\nfast {durations['fast']:.2f} s, slow {durations['slow']:.2f} s",
-            self)
+            f"Simulated duration:\nfast {durations['fast']:.2f} s, slow {durations['slow']:.2f} s"
+            + ("\n(lift acceleration not set)" if note else ""), self)
         self.duration_label.setToolTip(
             "A fast scan: one stroke at scan_speed. A slow scan: pocket by pocket, each Z step "
             "from rest to rest with a read at rest, and the jab and the sweep at each pocket "
-            "(arm and wrist speeds and accelerations from the scan settings)")
+            "(arm and wrist speeds and accelerations from the scan settings)"
+            + (f". {note[0].upper()}{note[1:]}." if note else ""))
         side = QtGui.QVBoxLayout()
         side.addWidget(self.e87_label)
         side.addWidget(self.duration_label)

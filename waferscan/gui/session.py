@@ -1,6 +1,6 @@
 """The workbench's session: what it keeps between commands while FreeCAD runs (``session``), and
 how it speaks to the user: ``report`` (the report view and a message box that does not block),
-``ask`` (a question that must be answered), ``transaction`` (one undo step), and one task panel
+``ask`` (a question that must be answered), ``record`` (an action as a replayable line), ``transaction`` (one undo step), and one task panel
 at a time (``check_no_other_task_panel``, ``show_task_panel``)."""
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from PySide import QtCore, QtGui
 from ..core.errors import InputError
 from .qt import alive
 
-__all__ = ["WorkbenchSession", "session", "last_result", "report", "ask", "transaction",
-           "check_no_other_task_panel", "show_task_panel"]
+__all__ = ["WorkbenchSession", "session", "last_result", "record", "report", "ask",
+           "transaction", "check_no_other_task_panel", "show_task_panel"]
 
 
 class WorkbenchSession:
@@ -45,6 +45,15 @@ def last_result(doc=None):
     """The ScanResult of the document's last Run scan (the active document's), or None."""
     doc = doc or App.ActiveDocument
     return None if doc is None else session.results.get(doc.Name)
+
+
+def record(call):
+    """Run ``call``, a line of Python on ``waferscan.gui.commands``' functions, as FreeCAD's own
+    commands do: through ``Gui.doCommand``, so that the Python console shows it and macro
+    recording keeps it, the call a script would make (``commands`` names every function such a
+    line calls)."""
+    Gui.addModule("waferscan.gui.commands")
+    Gui.doCommand(f"waferscan.gui.commands.{call}")
 
 
 def report(message, error=False, title="WaferScan"):

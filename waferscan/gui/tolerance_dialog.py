@@ -28,7 +28,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..addon import ADDON_ROOT, venv_dir
-from .session import session
+from .session import record, session
 
 PROGRESS = re.compile(r"sweep: (\d+)/(\d+) partitions")
 DEFAULT_TOLERANCES = Path(ADDON_ROOT) / "resources" / "examples" / "fab_tolerances.toml"
@@ -97,7 +97,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.stop_button = QtGui.QPushButton("Stop")
         self.stop_button.setToolTip("Interrupt the sweep, as Ctrl-C would: nothing is written")
         self.stop_button.setEnabled(False)
-        self.stop_button.clicked.connect(lambda: _record("stop_tolerance_study()"))
+        self.stop_button.clicked.connect(lambda: record("stop_tolerance_study()"))
         self.progress = QtGui.QProgressBar()
         self.progress.setRange(0, 1)
         self.progress.setValue(0)
@@ -163,7 +163,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
     def _record_run(self):
         """Run, as the line a script would write (the dialog's fields as its arguments)."""
         arguments = ", ".join(f"{key}={value!r}" for key, value in self.settings().items())
-        _record(f"run_tolerance_study({arguments})")
+        record(f"run_tolerance_study({arguments})")
 
     def apply_settings(self, input_path="", tolerances=None, n=None, seed=None, workers=None,
                        out=None):
@@ -359,10 +359,14 @@ class PlotLabel(QtGui.QLabel):
             self.enlarged = None
 
 
-def _record(call):
-    from .commands import record  # commands imports this module's callers: not at the top
-
-    record(call)
+def open_study(input_path="", **settings):
+    """A new tolerance study dialog, shown (non-modal) and kept as the session's; ``settings``
+    preset its fields (tolerances, n, seed, workers, out)."""
+    dialog = ToleranceStudyDialog(input_path, **settings)
+    dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+    dialog.show()
+    session.tolerance_study = dialog
+    return dialog
 
 
 def _open_dialog():
@@ -379,11 +383,7 @@ def run_tolerance_study(input_path="", tolerances=None, n=None, seed=None, worke
     """Run a tolerance study as the dialog's Run button does: in the open dialog, or in one
     opened for it, with the given fields (the rest as they are or their defaults). What the
     Run button records, so a macro replays it. Returns the dialog."""
-    dialog = _open_dialog()
-    if dialog is None:
-        from .dialogs import open_tolerance_study
-
-        dialog = open_tolerance_study()
+    dialog = _open_dialog() or open_study()
     dialog.apply_settings(input_path, tolerances, n, seed, workers, out)
     dialog.start()
     return dialog

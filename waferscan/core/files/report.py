@@ -3,7 +3,10 @@
 
 from __future__ import annotations
 
+import math
+
 from ..mapping import STATE_NAMES, UNSCANNED
+from ..scan.slow_scan import lift_acceleration
 from .mcs import reported_parameters
 
 # The paper's Table 1: slot -> (wafer #, IN, OUT, diff) in mm; slots not listed were empty.
@@ -57,11 +60,22 @@ def format_pockets(result):
     return "\n".join(lines)
 
 
+def duration_note(result):
+    """Why the durations may mislead, or None: with the lift's acceleration not set (SPEC §10's
+    default, infinite) the slow scan's stops from rest to rest take no time, so a slow scan can
+    come out shorter than a fast one (which strokes on to final_z)."""
+    if math.isinf(lift_acceleration(result.layout.scan)):
+        return "lift acceleration not set ([scan] acceleration): the slow scan's stops take no time"
+    return None
+
+
 def format_durations(result):
-    """One line: the simulated duration of a fast and of a slow scan (SPEC §13)."""
+    """One line: the simulated duration of a fast and of a slow scan (SPEC §13), and why they
+    may mislead (``duration_note``)."""
     d = result.durations
+    note = duration_note(result)
     return (f"simulated duration: fast {d['fast']:.2f} s, slow {d['slow']:.2f} s "
-            f"(this scan: {result.layout.scan.mode})")
+            f"(this scan: {result.layout.scan.mode}{'; ' + note if note else ''})")
 
 
 def _result_dict(result):
