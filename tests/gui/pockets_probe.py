@@ -8,7 +8,9 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, result, scan_scenario, start, wait_for, window_shot)
+    finish, later, result, scan_scenario, start, wait_for, window_shot)
+
+state = {}
 
 import FreeCADGui as Gui  # noqa: E402
 
@@ -48,10 +50,56 @@ def pockets():
     result["jab"] = _read(animation, frame_of(animation, 8, "jab", 1.0))
     window_shot("gui-jab.png")
     result["sweep"] = _read(animation, frame_of(animation, 3, "sweep", 0.25))
-    animation.k = len(animation.frames) - 1
+    later(controls)
+
+
+def controls():
+    """Pause, Resume, Go to a pocket and the speed, from the panel's own controls."""
+    from waferscan.cad.reader import DocumentScene, beam_from
+    from waferscan.gui.session import session
+    animation = session.pocket_animation
+    panel = session.task_panel
+    animation.k = 0
     animation.play()
-    wait_for("the results dialogs", lambda: animation.ended
-             and len(session.dialogs) == 2, dialogs)
+    state["seen"] = []
+    animation.moved.connect(lambda k: state["seen"].append(k))
+
+    def paused():
+        panel.pause_button.click()
+        state["held"] = [animation.k, panel.pause_button.text(), animation.timer.isActive()]
+        state["beam_held"] = list(beam_from(DocumentScene.of(animation.doc).scanner()).emitter)
+        later(still_paused, 400)
+
+    def still_paused():
+        beam = beam_from(DocumentScene.of(animation.doc).scanner())
+        result["paused"] = state["held"] + [animation.k, list(beam.emitter) == state["beam_held"]]
+        # Go to pocket 12 while paused: the arm is there at once, and stays paused.
+        index = panel.go_to.findData(12)
+        panel.go_to.setCurrentIndex(index)
+        panel.go_to.activated.emit(index)
+        Gui.updateGui()
+        beam = beam_from(DocumentScene.of(animation.doc).scanner())
+        frame = animation.frames[animation.k - 1]
+        window_shot("gui-pockets-paused.png")
+        result["went_to"] = {"pocket": panel.pocket.text(), "frame": list(frame),
+                             "emitter_z": beam.emitter[2], "paused": animation.paused,
+                             "choices": [panel.go_to.itemText(i)
+                                         for i in range(panel.go_to.count())]}
+        panel.speed.setCurrentIndex(panel.speed.findData(8.0))
+        state["seen"].clear()
+        panel.pause_button.click()  # Resume, at 8x
+        result["resumed_text"] = panel.pause_button.text()
+        later(fast, 300)
+
+    def fast():
+        seen = list(state["seen"])
+        result["fast_steps"] = [b - a for a, b in zip(seen, seen[1:])]
+        result["fast_first"] = seen[0] if seen else None
+        animation.k = len(animation.frames) - 1
+        wait_for("the results dialogs", lambda: animation.ended
+                 and len(session.dialogs) == 2, dialogs)
+
+    later(paused, 300)
 
 
 def dialogs():

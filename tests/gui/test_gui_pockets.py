@@ -79,3 +79,26 @@ def test_the_results_table_shows_front_and_sweep(gui):
         else:
             assert (first, last) == (f"{probe.sweep[0]:+.3f}", f"{probe.sweep[1]:+.3f}")
     assert rows[8][-3:] == ["5.000", "-33.845", "+33.845"]
+
+
+def test_the_pockets_can_be_paused_sped_up_and_jumped_to(gui):
+    """Issue 27 item 15: the pocket phase (about a minute on slow_jab.toml) had no pause, no
+    speed and no way to a pocket."""
+    held_at, text, timer_active, later_k, arm_still = gui["paused"]
+    assert text == "Resume" and timer_active is False
+    assert later_k == held_at and arm_still  # 400 ms later: not a frame further
+    went = gui["went_to"]
+    assert went["choices"] == [f"pocket {p.slot}" for p in slow_scan_result().pockets]
+    assert went["pocket"] == "pocket 12" and went["frame"][0] == 12
+    assert went["frame"][1] == "jab" and went["frame"][3] == 0.0  # the jab's first frame
+    probe = next(p for p in slow_scan_result().pockets if p.slot == 12)
+    assert went["emitter_z"] == pytest.approx(probe.z, abs=1e-6)
+    assert went["paused"] is True
+    assert gui["resumed_text"] == "Pause"
+    steps = gui["fast_steps"]
+    assert steps and all(step == 8 for step in steps[:-1]), steps  # 8x: every 8th frame shown
+
+
+def slow_scan_result():
+    from waferscan.core.scan.layout_scan import scan_layout
+    return scan_layout(LAYOUT)

@@ -24,6 +24,7 @@ from .qt import ClosableTaskPanel, GuiDocumentClosing
 from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR  # the beam's colours as the scan's
 JAB_FRAMES, SWEEP_FRAMES = 16, 40  # frames of the jab in (and as many out) and of the sweep
 FRAME_MS = 10
+SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)  # the panel's choices: × the frames a tick
 
 
 def pocket_frames(result):
@@ -58,8 +59,11 @@ def describe(frame):
 
 
 class PocketAnimation(QtCore.QObject):
-    """Plays ``pocket_frames(result)`` on ``doc``; ``moved(index)`` at every frame, ``finished``
-    at the end or on ``stop()`` (the arm then back in its start pose)."""
+    """Plays ``pocket_frames(result)`` on ``doc``; ``moved(index)`` at every frame shown,
+    ``finished`` at the end or on ``stop()`` (the arm then back in its start pose). It can be
+    paused and resumed, played faster or slower (``set_speed``: above 1, frames are skipped,
+    since moving the arm in the document is what takes the time; below 1, the ticks are
+    spaced), and sent to a pocket (``go_to``)."""
 
     moved = QtCore.Signal(int)
     finished = QtCore.Signal()
@@ -77,6 +81,8 @@ class PocketAnimation(QtCore.QObject):
         self.k = 0
         self.blocked = False
         self.ended = False
+        self.paused = False
+        self.speed = 1.0
         self.timer = QtCore.QTimer(self)
         self.timer.timeout.connect(self._tick)
         # As in the scan's animation: the carriers see-through while the arm is in them.
@@ -92,7 +98,37 @@ class PocketAnimation(QtCore.QObject):
 
     def play(self):
         if not self.ended:
-            self.timer.start(FRAME_MS)
+            self.paused = False
+            self.timer.start(self._interval())
+
+    def _interval(self):
+        return max(1, int(round(FRAME_MS / min(self.speed, 1.0))))
+
+    def pause(self):
+        """Hold the arm where it is (``play`` goes on from there)."""
+        if not self.ended:
+            self.paused = True
+            self.timer.stop()
+
+    def set_speed(self, factor):
+        """Play ``factor`` times as fast (0.25 to 8)."""
+        self.speed = float(factor)
+        if self.timer.isActive():
+            self.timer.start(self._interval())
+
+    def pockets(self):
+        """The probed slots, in the order they are played."""
+        return list(dict.fromkeys(frame[0] for frame in self.frames))
+
+    def go_to(self, slot):
+        """Show the first frame of ``slot``'s pocket now; playing (unless paused) goes on from
+        there."""
+        if self.ended:
+            return
+        index = next(i for i, frame in enumerate(self.frames) if frame[0] == slot)
+        self.show(index)
+        self.moved.emit(index)
+        self.k = index + 1
 
     def _document_closing(self):
         """The document is being closed: end now, leaving the view to go with it."""
@@ -139,6 +175,8 @@ class PocketAnimation(QtCore.QObject):
         if self.k >= len(self.frames):
             self.stop()
             return
+        if self.speed > 1.0:  # the frames in between skipped; the last one always shown
+            self.k = min(len(self.frames) - 1, self.k + int(round(self.speed)) - 1)
         try:
             self.show(self.k)
         except Exception as exc:
@@ -170,6 +208,17 @@ class PocketTaskPanel(ClosableTaskPanel):
         self.progress.setRange(0, max(1, len(animation.frames) - 1))
         self.stop_button = QtGui.QPushButton("Stop")
         self.stop_button.setToolTip("End the animation and put the arm back in its start pose")
+        self.pause_button = QtGui.QPushButton("Pause")
+        self.pause_button.setToolTip("Hold the arm where it is; Resume goes on from there")
+        self.speed = QtGui.QComboBox()
+        for factor in SPEEDS:
+            self.speed.addItem(f"{factor:g}×", factor)
+        self.speed.setCurrentIndex(SPEEDS.index(1.0))
+        self.speed.setToolTip("How fast the jabs and sweeps play (above 1×, frames are skipped)")
+        self.go_to = QtGui.QComboBox()
+        for slot in animation.pockets():
+            self.go_to.addItem(f"pocket {slot}", slot)
+        self.go_to.setToolTip("Jump to a pocket's jab")
         form = QtGui.QFormLayout()
         form.addRow("Pocket", self.pocket)
         form.addRow("Phase", self.phase)
@@ -182,18 +231,39 @@ class PocketTaskPanel(ClosableTaskPanel):
         box.addWidget(about)
         box.addLayout(form)
         box.addWidget(self.progress)
-        box.addWidget(self.stop_button)
+        controls = QtGui.QFormLayout()
+        controls.addRow("Speed", self.speed)
+        controls.addRow("Go to", self.go_to)
+        box.addLayout(controls)
+        buttons = QtGui.QHBoxLayout()
+        buttons.addWidget(self.pause_button)
+        buttons.addWidget(self.stop_button)
+        box.addLayout(buttons)
         box.addWidget(self.status)
         box.addStretch(1)
         self.stop_button.clicked.connect(animation.stop)
+        self.pause_button.clicked.connect(self._pause_or_resume)
+        self.speed.currentIndexChanged.connect(
+            lambda index: animation.set_speed(self.speed.itemData(index)))
+        self.go_to.activated.connect(lambda index: animation.go_to(self.go_to.itemData(index)))
         animation.moved.connect(self._moved)
         animation.finished.connect(self._finished)
         self.follow_document(animation.doc)
+
+    def _pause_or_resume(self):
+        if self.animation.paused:
+            self.animation.play()
+            self.pause_button.setText("Pause")
+        else:
+            self.animation.pause()
+            self.pause_button.setText("Resume")
 
     def _moved(self, k):
         if not self.is_open():
             return
         frame = self.animation.frames[k]
+        if self.go_to.currentData() != frame[0]:
+            self.go_to.setCurrentIndex(self.go_to.findData(frame[0]))
         pocket, phase, amount = describe(frame)
         self.pocket.setText(pocket)
         self.phase.setText(phase)
@@ -211,7 +281,8 @@ class PocketTaskPanel(ClosableTaskPanel):
     def _finished(self):
         if not self.is_open():
             return
-        self.stop_button.setEnabled(False)
+        for control in (self.stop_button, self.pause_button, self.speed, self.go_to):
+            control.setEnabled(False)
         done = self.animation.k >= len(self.animation.frames)
         # The scan's warnings as the Z steps' panel gives them (SPEC §3): among them a sweep
         # that turns a tine into a wafer, and a pocket off position by its sweep.
