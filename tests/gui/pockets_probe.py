@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, later, result, scan_scenario, start, wait_for, window_shot)
+    artifact, finish, later, result, scan_scenario, start, wait_for, window_shot)
 
 state = {}
 
@@ -110,6 +110,11 @@ def dialogs():
     result["headers"] = [table.table.horizontalHeaderItem(c).text()
                          for c in range(table.table.columnCount())]
     result["rows"] = table.rows()
+    Gui.updateGui()
+    result["table_look"] = {"row_numbers": table.table.verticalHeader().isVisible(),
+                            "sideways": table.table.horizontalScrollBar().maximum(),
+                            "width": table.width()}
+    table.grab().save(artifact("gui-pockets-table.png"))
     finish()
 
 

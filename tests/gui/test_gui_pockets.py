@@ -102,3 +102,11 @@ def test_the_pockets_can_be_paused_sped_up_and_jumped_to(gui):
 def slow_scan_result():
     from waferscan.core.scan.layout_scan import scan_layout
     return scan_layout(LAYOUT)
+
+
+def test_the_table_has_no_row_numbers_and_no_sideways_scrolling(gui):
+    """Issue 27 item 15: a row-number column beside the Slot column, and the Front and Sweep
+    columns behind a sideways scroll bar at the table's default size."""
+    look = gui["table_look"]
+    assert look["row_numbers"] is False
+    assert look["sideways"] == 0, look

@@ -50,6 +50,7 @@ class ResultsTable(QtGui.QDialog):
                 self.table.setItem(row, column, item)
         self.table.resizeColumnsToContents()
         self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.verticalHeader().setVisible(False)  # the Slot column numbers the rows
         self.table.itemSelectionChanged.connect(self._select_wafer)
         export = QtGui.QPushButton("Export CSV…", self)
         export.setToolTip("Save the table as a CSV file")
@@ -58,7 +59,16 @@ class ResultsTable(QtGui.QDialog):
         layout.addWidget(QtGui.QLabel(f"Slot code <b>{result.code}</b> (engine {result.engine})"))
         layout.addWidget(self.table)
         layout.addWidget(export)
-        self.resize(620, 700)
+        # Wide enough for every column (a slow scan's Front and Sweep ones too), within the
+        # screen: no sideways scrolling to read a row.
+        frame = self.table.frameWidth() * 2 + self.table.verticalScrollBar().sizeHint().width()
+        width = sum(self.table.columnWidth(c) for c in range(self.table.columnCount()))
+        margins = layout.contentsMargins()
+        wanted = max(620, width + frame + margins.left() + margins.right() + 4)
+        screen = QtGui.QApplication.primaryScreen()
+        if screen is not None:
+            wanted = min(wanted, screen.availableGeometry().width() - 40)
+        self.resize(wanted, 700)
 
     def rows(self):
         """The table's text, row by row (what a user sees)."""
