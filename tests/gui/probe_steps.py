@@ -190,6 +190,17 @@ def open_section(section):
     return section.body.isVisible()
 
 
+def console_calls():
+    """The lines of the Python console that call waferscan.gui.commands (the recorded actions),
+    without the prompt."""
+    import FreeCADGui as Gui
+
+    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
+                if w.objectName() == "Python console"]
+    return [line.strip().lstrip(">").strip() for line in consoles[0].toPlainText().splitlines()
+            if "waferscan.gui.commands." in line] if consoles else None
+
+
 def replay(what, then, until_ended=True):
     """Click the scan panel's Replay; ``then`` once the new panel is there (and, with
     ``until_ended``, its animation has ended)."""

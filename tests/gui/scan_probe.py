@@ -7,7 +7,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, later, result, start, wait_for, window_shot  # noqa: E402,E501
+from probe_steps import (  # noqa: E402
+    artifact, console_calls, finish, later, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -86,8 +87,15 @@ def dialogs():
     Gui.updateGui()
     result["rows"] = table.rows()
     csv_path = os.environ["WAFERSCAN_GUI_SAVE"].replace(".FCStd", ".csv")
-    table.export_csv(csv_path)
+    # Export CSV… as a user clicks it: the file dialog answers with csv_path.
+    asked = QtGui.QFileDialog.getSaveFileName
+    QtGui.QFileDialog.getSaveFileName = staticmethod(lambda *args: (csv_path, "CSV (*.csv)"))
+    try:
+        table._export()
+    finally:
+        QtGui.QFileDialog.getSaveFileName = asked
     result["csv"] = csv_path
+    result["console_calls"] = console_calls()
     result["state_colours"] = [table.table.item(r, 6).background().color().name()
                                for r in range(table.table.rowCount())]
     result["dialog_code"] = dialog.code_label.text()

@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, open_section, replay, result, scan_paper_layout, scan_settings, start, task_panel,
+    console_calls, finish, open_section, replay, result, scan_paper_layout, scan_settings, start, task_panel,
     wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
@@ -94,6 +94,7 @@ def replayed_changed():
     result["changed_now_code"] = result_now(App.ActiveDocument).code
     result["changed_note"] = note(panel)
     result["changed_status"] = panel.status.text()
+    result["console_calls"] = console_calls()
     window_shot("gui-replay-rescanned.png")
     panel.animation.stop()
     Gui.Control.closeDialog()

@@ -137,3 +137,11 @@ def test_the_panel_shows_the_recipe_it_judges_by(gui):
     # The paper's layout has no recipe: SPEC §4's limits from t = 0.7, Δt = 0.35, Δp = 0.5.
     assert gui["recipe_label"] == ("Recipe: waferscan rules: present 0.35 to 1.05 mm, seat "
                                    "−0.5/+0.5 mm, cross-slotted beyond 1.75 mm")
+
+
+def test_export_csv_is_a_recorded_line(gui):
+    """Issue 27 item 12: Export CSV… did not appear in the Python console."""
+    exports = [c for c in gui["console_calls"] if ".export_results_csv(" in c]
+    assert len(exports) == 1, gui["console_calls"]
+    assert exports[0].startswith("waferscan.gui.commands.export_results_csv(App.getDocument(")
+    assert exports[0].endswith(f", {gui['csv']!r})")

@@ -49,3 +49,12 @@ def test_replay_after_the_carrier_changed_scans_it_again_and_says_so(gui):
                                          "scanned it again."]
     assert gui["changed_code"] in gui["changed_status"]
     assert (ARTIFACTS / "gui-replay-rescanned.png").stat().st_size > 1000
+
+
+def test_replay_is_a_recorded_line(gui):
+    """Issue 27 item 12: Replay did not appear in the Python console; its line replays the
+    document's last scan (or scans it again when it changed)."""
+    replays = [c for c in gui["console_calls"] if ".replay_scan(" in c]
+    assert len(replays) == 2, gui["console_calls"]
+    assert all(c.startswith("waferscan.gui.commands.replay_scan(App.getDocument(") and
+               ", duration_s=" in c for c in replays)

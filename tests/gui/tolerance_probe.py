@@ -8,7 +8,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, later, result, start, wait_for  # noqa: E402
+from probe_steps import (  # noqa: E402
+    artifact, console_calls, finish, later, result, start, wait_for)
 
 import FreeCADGui as Gui  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
@@ -120,11 +121,7 @@ def step_document_done(dialog):
     result["document_state"] = dialog.state
     result["document_errors"] = dialog.errors
     result["document_summary"] = dialog.summary
-    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
-                if w.objectName() == "Python console"]
-    result["console_calls"] = [line.strip().lstrip(">").strip()
-                               for line in consoles[0].toPlainText().splitlines()
-                               if "waferscan.gui.commands." in line]
+    result["console_calls"] = console_calls()
     dialog.close()
     finish()
 

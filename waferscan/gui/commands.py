@@ -21,24 +21,22 @@ from ..core.errors import WaferScanError
 # here. ``session`` too: scripts and probes read what the workbench keeps through it.
 from .dialogs import (calibrate_layout, cross_check, open_mcs_panel, open_tolerance_study,
                       show_results_dialogs)
-from .playback import run_scan
+from .playback import replay_scan, run_scan
+from .results_view import export_results_csv
 from .scanning import open_scenario
-from .session import record, report, session
+from .session import doc_ref, record, report, session
 from .tagging import tag_selection
 from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 
-__all__ = ["open_scenario", "tag_selection", "run_scan", "calibrate_layout", "open_mcs_panel",
+__all__ = ["open_scenario", "tag_selection", "run_scan", "replay_scan", "export_results_csv",
+           "calibrate_layout", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
            "stop_tolerance_study", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
 
 
-def _doc_ref(doc):
-    return f"App.getDocument({doc.Name!r})"
-
-
 def _objects_ref(objects):
-    return "[" + ", ".join(f"{_doc_ref(o.Document)}.getObject({o.Name!r})"
+    return "[" + ", ".join(f"{doc_ref(o.Document)}.getObject({o.Name!r})"
                            for o in objects) + "]"
 
 
@@ -127,7 +125,7 @@ class RunScan(_Command):
            "then show the results and the slot code")
 
     def run(self):
-        record(f"run_scan({_doc_ref(App.ActiveDocument)})")
+        record(f"run_scan({doc_ref(App.ActiveDocument)})")
 
 
 class CalibrateCommand(_Command):
@@ -136,7 +134,7 @@ class CalibrateCommand(_Command):
            "pitch, scan range, thickness correction, then a check scan (SPEC §11)")
 
     def run(self):
-        record(f"calibrate_layout({_doc_ref(App.ActiveDocument)})")
+        record(f"calibrate_layout({doc_ref(App.ActiveDocument)})")
 
 
 class McsLinkCommand(_Command):
@@ -145,7 +143,7 @@ class McsLinkCommand(_Command):
            "and results.txt in a folder")
 
     def run(self):
-        record(f"open_mcs_panel({_doc_ref(App.ActiveDocument)})")
+        record(f"open_mcs_panel({doc_ref(App.ActiveDocument)})")
 
 
 class ResultsTableCommand(_Command):
@@ -154,7 +152,7 @@ class ResultsTableCommand(_Command):
     tip = "The scan's results, slot by slot (the paper's Table 1); selecting a row selects the wafer"
 
     def run(self):
-        record(f"show_results_dialogs({_doc_ref(App.ActiveDocument)}, ('table',))")
+        record(f"show_results_dialogs({doc_ref(App.ActiveDocument)}, ('table',))")
 
 
 class SlotCodeCommand(_Command):
@@ -163,7 +161,7 @@ class SlotCodeCommand(_Command):
     tip = "The slot code, its per-slot strip, a side view of the runs and the E87 map"
 
     def run(self):
-        record(f"show_results_dialogs({_doc_ref(App.ActiveDocument)}, ('code',))")
+        record(f"show_results_dialogs({doc_ref(App.ActiveDocument)}, ('code',))")
 
 
 class CrossCheckCommand(_Command):
@@ -172,7 +170,7 @@ class CrossCheckCommand(_Command):
     tip = "Confirm every IN and OUT of the scan with FreeCAD's B-rep geometry (OpenCASCADE)"
 
     def run(self):
-        record(f"cross_check({_doc_ref(App.ActiveDocument)})")
+        record(f"cross_check({doc_ref(App.ActiveDocument)})")
 
 
 class ToleranceStudyCommand(_Command):

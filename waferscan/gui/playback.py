@@ -8,9 +8,10 @@ from ..core.errors import WaferScanError
 from . import preferences
 from .dialogs import show_results_dialogs
 from .scanning import changed_since, scan_and_store
-from .session import check_no_other_task_panel, report, session, show_task_panel
+from .session import (check_no_other_task_panel, doc_ref, last_result, record, report, session,
+                      show_task_panel)
 
-__all__ = ["run_scan", "play_scan"]
+__all__ = ["run_scan", "replay_scan", "play_scan"]
 
 
 def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_s=None):
@@ -54,22 +55,31 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
         on_completed = then_pockets(doc, result, on_completed, show_task_panel if panel
                                     else None, session)
     if panel:
-        def replay(seconds):
-            # The document changed since the scan (settings applied in the panel, the carrier
-            # or the scanner edited, an Undo): scan it as it is now, and say so.
-            if changed_since(doc, result):
-                try:
-                    run_scan(doc, show_results=show_results, duration_s=seconds)
-                except WaferScanError as exc:
-                    report(f"Replay: {doc.Label} cannot be scanned as it is now: {exc}",
-                           error=True)
-                    return
-                session.task_panel.say_rescanned()
-            else:
-                play_scan(doc, result, show_results=show_results, duration_s=seconds)
+        def replay(seconds):  # the panel's Replay, as the line a macro replays
+            results = "" if show_results else ", show_results=False"
+            record(f"replay_scan({doc_ref(doc)}, duration_s={seconds!r}{results})")
         scan_panel = ScanTaskPanel(animation, on_completed, replay)
         show_task_panel(scan_panel)
     elif on_completed is not None:
         animation.finished.connect(lambda: animation.completed and on_completed())
     animation.play()
+    return animation
+
+
+def replay_scan(doc, duration_s=None, show_results=True):
+    """Play the document's last scan again from the start, in a fresh panel (what the scan
+    panel's Replay does and records). When the document changed since that scan (settings
+    applied in the panel, the carrier or the scanner edited, an Undo), it is scanned as it is
+    now, and the panel says so; a document never scanned is scanned. Returns the animation, or
+    None when the document cannot be scanned as it is (said to the user)."""
+    result = last_result(doc)
+    if result is not None and not changed_since(doc, result):
+        return play_scan(doc, result, show_results=show_results, duration_s=duration_s)
+    try:
+        animation = run_scan(doc, show_results=show_results, duration_s=duration_s)
+    except WaferScanError as exc:
+        report(f"Replay: {doc.Label} cannot be scanned as it is now: {exc}", error=True)
+        return None
+    if result is not None:
+        session.task_panel.say_rescanned()
     return animation

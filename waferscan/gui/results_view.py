@@ -5,6 +5,7 @@ nothing is computed here."""
 from __future__ import annotations
 
 import csv
+import io
 from pathlib import Path
 
 import FreeCAD as App
@@ -14,6 +15,7 @@ from PySide import QtCore, QtGui
 from ..cad.results_sheet import COLUMNS, columns, table_cells
 from ..core.files.report import STATE_COLOURS, duration_note
 from ..core.mapping import E87, STATE_NAMES
+from .session import doc_ref, last_result, record
 from .side_view import SideView
 
 
@@ -85,17 +87,50 @@ class ResultsTable(QtGui.QDialog):
                     Gui.Selection.addSelection(obj)
 
     def export_csv(self, path):
-        with open(path, "w", newline="", encoding="utf-8") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(columns(self.result))
-            writer.writerows(self.rows())
+        """Write the table (this dialog's result) as CSV to ``path``, whole or not at all."""
+        write_csv(self.result, path)
 
     def _export(self):
         path, _ = QtGui.QFileDialog.getSaveFileName(self, "Export results", export_start(self.doc),
                                                     "CSV (*.csv)")
-        if path:
+        if not path:
+            return
+        if self.doc is not None and last_result(self.doc) is self.result:
+            # The line a macro replays: the document's last scan, exported.
+            record(f"export_results_csv({doc_ref(self.doc)}, {path!r})")
+        else:
             self.export_csv(path)
             App.Console.PrintMessage(f"WaferScan: results exported to {path}\n")
+
+
+def csv_text(result):
+    """The results table as CSV text: the header, then a row per slot as the table shows it."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\r\n")
+    writer.writerow(columns(result))
+    writer.writerows(cells for cells, _ in table_cells(result))
+    return buffer.getvalue()
+
+
+def write_csv(result, path):
+    from ..core.files.text_files import replacing
+
+    with replacing(path) as tmp:
+        with open(tmp, "w", newline="", encoding="utf-8") as handle:
+            handle.write(csv_text(result))
+
+
+def export_results_csv(doc, path):
+    """Write the results table of the document's last scan as CSV to ``path`` (what the table's
+    Export CSV… records). Refused (InputError) when the document was not scanned."""
+    from ..core.errors import InputError
+
+    result = last_result(doc)
+    if result is None:
+        raise InputError(doc.Label, None, "no scan to export: use Run scan first")
+    write_csv(result, path)
+    App.Console.PrintMessage(f"WaferScan: results exported to {path}\n")
+    return path
 
 
 class SlotCodeDialog(QtGui.QDialog):

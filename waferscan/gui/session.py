@@ -14,7 +14,7 @@ from PySide import QtCore, QtGui
 from ..core.errors import InputError
 from .qt import alive
 
-__all__ = ["WorkbenchSession", "session", "last_result", "record", "report", "ask",
+__all__ = ["WorkbenchSession", "session", "last_result", "doc_ref", "record", "report", "ask",
            "transaction", "check_no_other_task_panel", "show_task_panel"]
 
 
@@ -45,6 +45,11 @@ def last_result(doc=None):
     """The ScanResult of the document's last Run scan (the active document's), or None."""
     doc = doc or App.ActiveDocument
     return None if doc is None else session.results.get(doc.Name)
+
+
+def doc_ref(doc):
+    """The Python expression of ``doc`` in a recorded line."""
+    return f"App.getDocument({doc.Name!r})"
 
 
 def record(call):
