@@ -106,3 +106,16 @@ def wafer_like(diameter, thickness, diameters=SEMI_DIAMETERS, margin=DIAMETER_MA
         sizes = ", ".join(f"{size:g}" for size in diameters)
         return f"a disc {diameter:g} mm across: not a wafer size ({sizes} mm, ± {margin:g} mm)"
     return None
+
+
+def slots_scan_range(carrier):
+    """(start_z, final_z): the scan range that covers the windows of all of ``carrier``'s slots,
+    from slot 1's seat − pitch/2 to the top slot's seat + pitch/2 (SPEC §3), wherever the
+    sensor stands. The GUI's first Run scan takes it, and keeps following it.
+
+    >>> from waferscan.core.model import Carrier
+    >>> slots_scan_range(Carrier("FOUP", 5, 10.0, 10.0, (0.0, 0.0), 300.0, 0.775))
+    (5.0, 55.0)
+    """
+    return (carrier.seat_z(1) - 0.5 * carrier.pitch,
+            carrier.seat_z(carrier.slot_count) + 0.5 * carrier.pitch)
