@@ -181,15 +181,18 @@ def make_carrier():
         "label2": carriers[0].Label2 if carriers else None,
         "undo": list(doc.UndoNames)[:2],
         "message": " ".join(message_texts())}
-    if not carriers:
-        finish()
-        return
-    carrier = carriers[0]
-    doc.undo()
-    result["carrier_undone"] = [len([o for o in doc.Objects if role(o) == "Carrier"]),
-                                [w.getParentGeoFeatureGroup() is None for w in walls]]
-    doc.redo()
-    carrier = doc.getObject(carrier.Name)
+    if carriers:
+        carrier = carriers[0]
+        doc.undo()
+        result["carrier_undone"] = [len([o for o in doc.Objects if role(o) == "Carrier"]),
+                                    [w.getParentGeoFeatureGroup() is None for w in walls]]
+        doc.redo()
+        carrier = doc.getObject(carrier.Name)
+    else:  # no Make carrier from solids (before issue 27): the base is tagged instead
+        select([walls[2]])
+        Gui.runCommand("WaferScan_TagCarrier")
+        carrier = walls[2]
+        result["carrier"]["size"] = [carrier.WaferDiameter.Value, carrier.WaferThickness.Value]
     carrier.SlotOrigin = App.Placement(App.Vector(*CENTRE, 10), App.Rotation())  # slot 1's seat
     sensor = state["solids"][-1]
     select([sensor])
