@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, later, message_texts, result, start, wait_for, window_shot)
+    artifact, finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -109,6 +109,10 @@ def begin():
                        "tagged_are_the_wafers": sorted(o.Name for o in wafers) ==
                        sorted(o.Name for o in state["wafers"]),
                        "undo": list(doc.UndoNames)}
+    from waferscan.gui.session import session
+    boxes = [b for b in session.message_boxes if b.isVisible()]
+    if boxes:  # the message the user reads, as a picture
+        boxes[-1].grab().save(artifact("gui-split-skipped.png"))
     result["split_message"] = " ".join(message_texts())
     result["selected_after"] = sorted(o.Label for o in Gui.Selection.getSelection())
     later(split_tree, 300)
@@ -252,6 +256,16 @@ def first_scanned():
     _, third = scan_and_store(doc)
     result["third"] = {"range": [third.layout.scan.start_z, third.layout.scan.final_z],
                        "follows": getattr(settings, "RangeFromCarrier", None)}
+    # A wafer tagged after its carrier, of another thickness: the carrier is not changed, and
+    # the user is told.
+    thin = doc.addObject("Part::Cylinder", "Thin")
+    thin.Radius, thin.Height = 150, 0.5
+    thin.Placement.Base = App.Vector(*CENTRE, 200)
+    doc.recompute()
+    select([thin])
+    Gui.runCommand("WaferScan_TagWafer")
+    result["thin"] = [role(thin), state["carrier"].WaferThickness.Value,
+                      " ".join(message_texts())]
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(settings)
     later(final_shot, 300)

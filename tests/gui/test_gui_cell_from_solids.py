@@ -14,7 +14,7 @@ ARTIFACTS = REPO / "test-artifacts"
 
 @pytest.fixture(scope="module")
 def cell(run_gui_probe, tmp_path_factory):
-    for name in ("gui-split-tagged.png", "gui-range-follows.png"):
+    for name in ("gui-split-tagged.png", "gui-split-skipped.png", "gui-range-follows.png"):
         (ARTIFACTS / name).unlink(missing_ok=True)
     folder = tmp_path_factory.mktemp("tool-cell")
     return run_gui_probe(PROBE, WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS),
@@ -33,13 +33,14 @@ def test_only_the_wafers_of_a_split_compound_are_tagged(cell):
 
 def test_what_was_skipped_is_said_with_why(cell):
     message = cell["split_message"]
-    assert "tagged 10 as wafers" in message and "Skipped 9" in message
+    assert "tagged 10 as wafers" in message and "Skipped 9, not wafer-like" in message
     assert "Tool solid 14: a cylinder 120 mm across and 300 mm high" in message  # the column
     assert "Tool solid 15: a cylinder 160 mm across and 20 mm high" in message  # the collar
     assert "Tool solid 17: a cylinder 0.8 mm across and 160 mm high" in message  # a rod
     assert "Tool solid 11: has no cylindrical rim" in message  # a wall
     assert "Untag" in message and "Make carrier from solids" in message
     assert len(cell["selected_after"]) == 9  # the skipped solids, to pick the carrier from
+    assert (ARTIFACTS / "gui-split-skipped.png").stat().st_size > 1000
 
 
 def test_the_role_shows_in_the_trees_description_column(cell):
@@ -67,13 +68,20 @@ def test_a_disc_tagged_on_its_own_is_tagged_with_a_word(cell):
 
 def test_a_carrier_made_of_loose_solids_takes_the_wafers_size(cell):
     carrier = cell["carrier"]
+    assert carrier["size"] == pytest.approx([300.0, 0.7])  # not the default 0.775 mm
     assert carrier["count"] == 1 and carrier["type"] == "App::Part"
     assert carrier["walls_inside"] is True
-    assert carrier["size"] == pytest.approx([300.0, 0.7])  # not the default 0.775 mm
     assert carrier["label2"] == "Carrier (WaferScan)"
     assert carrier["undo"][0] == "Make carrier from solids"
     assert "those of the 10 tagged wafers" in carrier["message"]
     assert cell["carrier_undone"] == [0, [True, True, True]]
+
+
+def test_a_wafer_tagged_after_its_carrier_of_another_size_is_said(cell):
+    thin_role, carrier_thickness, message = cell["thin"]
+    assert thin_role == "Wafer" and carrier_thickness == pytest.approx(0.7)  # left as it was
+    assert "Carrier holds 300 mm, 0.7 mm wafers (its WaferDiameter and WaferThickness), but " \
+        "Thin is 300 mm, 0.5 mm" in message
 
 
 def test_the_commands_are_recorded(cell):
@@ -86,15 +94,15 @@ def test_the_commands_are_recorded(cell):
 
 
 def test_the_scan_range_follows_the_carrier_until_set(cell):
-    first = cell["first"]
+    first, second, third = cell["first"], cell["second"], cell["third"]
     assert first["range"] == pytest.approx([5.0, 255.0])  # 25 slots by default
-    assert first["stored"] == pytest.approx([5.0, 255.0]) and first["follows"] is True
     assert first["code"] == "1" * 10 + "0" * 15, first
-    second = cell["second"]
     assert second["range"] == pytest.approx([5.0, 105.0])  # SlotCount 10
-    assert second["stored"] == pytest.approx([5.0, 105.0]) and second["follows"] is True
     assert second["code"] == "1" * 10
+    assert third["range"] == pytest.approx([5.0, 60.0])  # FinalZ set: kept at SlotCount 12
+    # What the property editor shows, and why.
+    assert first["stored"] == pytest.approx([5.0, 255.0]) and first["follows"] is True
+    assert second["stored"] == pytest.approx([5.0, 105.0]) and second["follows"] is True
     assert "Scan range follows the carrier" in second["undo"]
-    third = cell["third"]  # FinalZ set by the user: kept when SlotCount changes
-    assert third == {"range": pytest.approx([5.0, 60.0]), "follows": False}
+    assert third["follows"] is False
     assert (ARTIFACTS / "gui-range-follows.png").stat().st_size > 1000

@@ -39,7 +39,7 @@ def test_the_default_import_is_one_compound_and_tagging_it_offers_its_solids(cel
     assert split["undo"][:2] == ["Tag as wafer", "Split compound into solids"]
     assert "tagged 2 as wafers" in split_message(gui) and "Tag as carrier" in split_message(gui)
     # The walls and the sensor are skipped, with why.
-    assert "Skipped 4" in split_message(gui) and "has no cylindrical rim" in split_message(gui)
+    assert "Skipped 4, not wafer-like" in split_message(gui) and "has no cylindrical rim" in split_message(gui)
     assert gui["after_one_undo"] == [7, False, 0]  # the solids stay, untagged
     # Undone twice: the compound is back alone, visible; redone, split and tagged again.
     assert gui["after_undo"] == [1, True, [""]]

@@ -75,9 +75,10 @@ def _tag_all(role, objects, diameters=None):
 
     notes = []
     odd = []
+    sizes = {}
     for obj in objects:
         if role == "wafer":
-            diameter, thickness = roles.tag_wafer(obj)
+            diameter, thickness = sizes[obj.Label] = roles.tag_wafer(obj)
             why = wafer_like(diameter, thickness, *(() if diameters is None else (diameters,)))
             if why:
                 odd.append(f"{obj.Label} is {why}")
@@ -90,6 +91,35 @@ def _tag_all(role, objects, diameters=None):
     if odd:
         notes.append("Tagged as you asked, though " + "; ".join(odd) +
                      " (Untag what is not a wafer).")
+    if sizes:
+        notes += _carrier_size_notes(objects[0].Document, sizes)
+    return notes
+
+
+def _carrier_size_notes(doc, sizes):
+    """What to say when wafers tagged after their carrier are not of the carrier's nominal
+    size (``sizes``: {label: (diameter, thickness)} of the wafers just tagged): the carrier's
+    WaferDiameter and WaferThickness are not changed behind the user's back."""
+    from ..cad import roles
+    from .inputs import format_length
+
+    notes = []
+    for carrier in doc.Objects:
+        if getattr(carrier, roles.ROLE, "") != roles.CARRIER or \
+                "WaferThickness" not in carrier.PropertiesList:
+            continue
+        nominal = (carrier.WaferDiameter.Value, carrier.WaferThickness.Value)
+        other = [label for label, size in sizes.items()
+                 if any(abs(a - b) > 1e-6 for a, b in zip(size, nominal))]
+        if other:
+            diameter, thickness = sizes[other[0]]
+            notes.append(
+                f"{carrier.Label} holds {format_length(nominal[0])}, "
+                f"{format_length(nominal[1])} wafers (its WaferDiameter and WaferThickness), "
+                f"but {other[0]}{f' and {len(other) - 1} more' if len(other) > 1 else ''} "
+                f"{'is' if len(other) == 1 else 'are'} {format_length(diameter)}, "
+                f"{format_length(thickness)}: set them in its Data tab if the wafers are "
+                "right.")
     return notes
 
 
@@ -219,19 +249,19 @@ def _split_and_tag(role, objects, compounds, diameters=None):
     _select([s for s, _ in skipped])
     lines = [f"{s.Label}: {why}" for s, why in skipped]
     message = (f"Split {names} into {len(solids)} solids and tagged {len(wafers)} as wafers "
-               f"({', '.join(o.Label for o in wafers) or 'none was a wafer-like disc'}).")
+               f"({_listed([o.Label for o in wafers]) or 'none was a wafer-like disc'}).")
     if skipped:
         shown = lines[:MAX_LISTED]
         more = len(lines) - len(shown)
-        message += (f" Skipped {len(skipped)} (selected now), not wafer-like: " +
-                    "; ".join(shown) +
-                    (f"; and {more} more (the report view lists them all)" if more else "") + ".")
+        message += (f"\n\nSkipped {len(skipped)}, not wafer-like (selected now):\n" +
+                    "\n".join(f"• {line}" for line in shown) +
+                    (f"\n• and {more} more (the report view lists them all)" if more else ""))
         for line in lines[MAX_LISTED:]:
             App.Console.PrintMessage(f"WaferScan: skipped {line}\n")
-    message += " ".join(["", *notes]) + (
-        " Next: select the carrier among the other solids (or several, and Make carrier from "
+    message += "\n\n" + " ".join([*notes, (
+        "Next: select the carrier among the other solids (or several, and Make carrier from "
         "solids), use Tag as carrier, then the sensor and Tag as scanner. A wafer tagged "
-        "wrongly: select it and Untag.")
+        "wrongly: select it and Untag.")])
     report(message)
     return solids
 
@@ -243,6 +273,13 @@ def _own_undo_steps(name):
     Outside a command (a macro replayed) it changes nothing."""
     App.setActiveTransaction(name)
     App.setActiveTransaction(name, True)
+
+
+def _listed(labels):
+    """``labels`` joined, the first ``MAX_LISTED`` of a long list and how many more."""
+    if len(labels) <= MAX_LISTED:
+        return ", ".join(labels)
+    return f"{', '.join(labels[:MAX_LISTED])} and {len(labels) - MAX_LISTED} more"
 
 
 def _select(objects):
