@@ -93,7 +93,24 @@ def _tag_all(role, objects, diameters=None):
                      " (Untag what is not a wafer).")
     if sizes:
         notes += _carrier_size_notes(objects[0].Document, sizes)
-    return notes
+    return notes + _hidden_column_note()
+
+
+_told = set()  # what the user has been told once this session
+
+
+def _hidden_column_note():
+    """Where to see the roles when the tree hides its Description column (FreeCAD 1.0's
+    default): said once a session."""
+    if "column" in _told:
+        return []
+    trees = [t for t in Gui.getMainWindow().findChildren(QtGui.QTreeWidget)
+             if t.metaObject().className() == "Gui::TreeWidget" and t.columnCount() > 1]
+    if not any(t.isColumnHidden(1) for t in trees):
+        return []
+    _told.add("column")
+    return ["The tree's Description column shows each object's WaferScan role; it is hidden "
+            "now: right-click the tree → Tree settings → Show description."]
 
 
 def _carrier_size_notes(doc, sizes):
@@ -319,7 +336,7 @@ def make_carrier_from_solids(selection=None, label="Carrier"):
             parent.addObject(part)
         for obj in objects:
             part.addObject(obj)
-        note = _tag_carrier(part)
+        note = " ".join([_tag_carrier(part), *_hidden_column_note()])
         roles.show_role_in_tree(part)
         doc.recompute()
     _select([part])
