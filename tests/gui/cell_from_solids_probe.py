@@ -273,6 +273,37 @@ def first_scanned():
 
 def final_shot():
     window_shot("gui-range-follows.png", dock_width=420)
+    nested()
+
+
+def nested():
+    """Solids inside a placed App::Part: the carrier is made in that part and nothing moves;
+    solids of two containers are refused with a message."""
+    doc = App.newDocument("Nested")
+    cell = doc.addObject("App::Part", "Cell")
+    cell.Placement.Base = App.Vector(0, 0, 100)
+    walls = []
+    for name, x in (("LeftWall", 0), ("RightWall", 330)):
+        wall = doc.addObject("Part::Box", name)
+        wall.Length, wall.Width, wall.Height = 10, 360, 270
+        wall.Placement.Base = App.Vector(x, 0, 0)
+        cell.addObject(wall)
+        walls.append(wall)
+    loose = doc.addObject("Part::Box", "Loose")
+    doc.recompute()
+    before = [tuple(w.getGlobalPlacement().Base) for w in walls]
+    select(walls)
+    run("WaferScan_MakeCarrier")
+    carrier = [o for o in doc.Objects if role(o) == "Carrier"]
+    result["nested"] = {
+        "parent": carrier[0].getParentGeoFeatureGroup().Name if carrier else None,
+        "moved": [tuple(w.getGlobalPlacement().Base) for w in walls] != before,
+        "inside": [w.getParentGeoFeatureGroup().Name for w in walls],
+        "message": " ".join(message_texts())}
+    select([cell.Group[-1].Group[0] if carrier else walls[0], loose])
+    undo_before = list(doc.UndoNames)
+    run("WaferScan_MakeCarrier")
+    result["two_containers"] = [message_texts(), list(doc.UndoNames) == undo_before]
     finish()
 
 

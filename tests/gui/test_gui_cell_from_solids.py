@@ -79,6 +79,18 @@ def test_a_carrier_made_of_loose_solids_takes_the_wafers_size(cell):
     assert cell["carrier_undone"] == [0, [True, True, True]]
 
 
+def test_a_carrier_made_inside_a_placed_part_moves_nothing(cell):
+    nested = cell["nested"]
+    assert nested["parent"] == "Cell" and nested["moved"] is False
+    assert nested["inside"] == ["Carrier", "Carrier"]
+    assert "No wafers are tagged yet" in nested["message"]  # the defaults, said
+    messages, unchanged = cell["two_containers"]
+    assert messages == ["selection: the selected solids lie in different containers (Carrier, "
+                        "the document itself): select solids of one container, or tag that "
+                        "container as the carrier"]
+    assert unchanged is True
+
+
 def test_a_wafer_tagged_after_its_carrier_of_another_size_is_said(cell):
     thin_role, carrier_thickness, message = cell["thin"]
     assert thin_role == "Wafer" and carrier_thickness == pytest.approx(0.7)  # left as it was
