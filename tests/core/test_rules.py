@@ -84,3 +84,26 @@ def test_a_scenario_without_a_mapping_table_gets_the_default_mapping_given():
     assert parse_scenario(text).mapping == MappingTolerances()
     assert parse_scenario(paper, default_mapping=given).mapping == MappingTolerances(
         position_tolerance=0.5, protrusion_limit=1.0)
+
+
+@pytest.mark.parametrize("diameter, thickness", [
+    (300.0, 0.775), (300.0, 0.7), (299.2, 0.775), (200.0, 0.725), (150.0, 0.675),
+    (100.0, 0.525), (125.0, 0.625), (450.0, 0.925)])
+def test_semi_wafers_are_wafer_like(diameter, thickness):
+    assert rules.wafer_like(diameter, thickness) is None
+
+
+@pytest.mark.parametrize("diameter, thickness, reason", [
+    (0.8, 160.0, "0.8 mm across and 160 mm high"),  # a rod
+    (120.0, 300.0, "at least 20 times as wide as thick"),  # the robot's column
+    (160.0, 20.0, "at least 20 times"),  # a collar
+    (300.0, 16.0, "at least 20 times"),  # a 300 mm plate 16 mm thick
+    (250.0, 0.775, "not a wafer size"),
+    (302.0, 0.775, "not a wafer size (100, 125, 150, 200, 300, 450 mm, ± 1 mm)")])
+def test_other_cylinders_are_not_wafers_and_say_why(diameter, thickness, reason):
+    assert reason in rules.wafer_like(diameter, thickness)
+
+
+def test_the_sizes_the_user_gives_replace_semis():
+    assert rules.wafer_like(250.0, 0.7, diameters=(250.0,)) is None
+    assert "not a wafer size (250 mm" in rules.wafer_like(300.0, 0.7, diameters=(250.0,))

@@ -175,9 +175,14 @@ def begin():
                        "compound_visible": compound.Visibility,
                        "undo": list(doc.UndoNames)}
     result["split_message"] = message_texts()
-    doc.undo()
+    doc.undo()  # the tagging
+    result["after_one_undo"] = [len(doc.Objects), compound.Visibility,
+                                len([o for o in doc.Objects
+                                     if getattr(o, "WaferScanRole", "") == "Wafer"])]
+    doc.undo()  # the split
     result["after_undo"] = [len(doc.Objects), compound.Visibility,
                             [getattr(o, "WaferScanRole", "") for o in doc.Objects]]
+    doc.redo()
     doc.redo()
     result["after_redo"] = len([o for o in doc.Objects
                                 if getattr(o, "WaferScanRole", "") == "Wafer"])

@@ -35,9 +35,13 @@ def test_the_default_import_is_one_compound_and_tagging_it_offers_its_solids(cel
     assert split["objects"] == 7 and split["wafers"] == 2
     assert split["wafer_z"] == [10.0, 30.0]
     assert split["compound_visible"] is False
-    assert split["undo"][0] == "Split compound into solids"
+    # The split and the tagging are two undo steps (issue 27).
+    assert split["undo"][:2] == ["Tag as wafer", "Split compound into solids"]
     assert "tagged 2 as wafers" in split_message(gui) and "Tag as carrier" in split_message(gui)
-    # One undo step: the compound is back alone, visible; redo splits and tags again.
+    # The walls and the sensor are skipped, with why.
+    assert "Skipped 4, not wafer-like" in split_message(gui) and "has no cylindrical rim" in split_message(gui)
+    assert gui["after_one_undo"] == [7, False, 0]  # the solids stay, untagged
+    # Undone twice: the compound is back alone, visible; redone, split and tagged again.
     assert gui["after_undo"] == [1, True, [""]]
     assert gui["after_redo"] == 2
 

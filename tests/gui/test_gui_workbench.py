@@ -45,9 +45,9 @@ def test_the_toolbar_has_every_command_with_its_own_icon_and_a_tooltip(gui_resul
         assert tip and has_icon, text
         assert drawn > 0.15, f"{text}: its icon is nearly empty at 24 px"
     pixmaps = gui_result["pixmaps"]
-    # One SVG per command, the three tag commands and their drop-down each their own, all in
-    # resources/icons.
-    assert len(set(pixmaps.values())) == len(COMMANDS) + 3
+    # One SVG per command, the three tag commands, Make carrier from solids and Untag in their
+    # drop-down each their own, all in resources/icons.
+    assert len(set(pixmaps.values())) == len(COMMANDS) + 5
     for name, path in pixmaps.items():
         assert path.endswith(f"{name if name != 'WaferScan_Tag' else 'WaferScan_TagSelection'}.svg")
         assert Path(path).is_file(), path
@@ -56,8 +56,9 @@ def test_the_toolbar_has_every_command_with_its_own_icon_and_a_tooltip(gui_resul
 def test_the_menu_lists_the_tag_commands_one_by_one(gui_result):
     menu = gui_result["menu"]
     assert menu[:2] == COMMANDS[:2]
-    assert menu[2:5] == ["Tag as wafer", "Tag as carrier", "Tag as scanner"]
-    assert menu[5:] == COMMANDS[3:]
+    assert menu[2:7] == ["Tag as wafer", "Tag as carrier", "Tag as scanner",
+                         "Make carrier from solids", "Untag"]
+    assert menu[7:] == COMMANDS[3:]
 
 
 def test_the_preferences_command_opens_the_waferscan_page(gui_result):

@@ -190,8 +190,33 @@ class ScannerBeam(_Proxy):
         obj.Shape = Part.makeCompound([rod] + heads)
 
 
+RANGE_FROM_CARRIER = "RangeFromCarrier"
+RANGE_FROM_CARRIER_TIP = ("True: StartZ and FinalZ follow the scanned carrier's slots (slot 1's "
+                          "seat - pitch/2 to the top slot's seat + pitch/2) at every scan; "
+                          "setting StartZ or FinalZ yourself turns it off")
+_following = []  # non-empty while WaferScan itself writes a range that follows the carrier
+
+
+class following_carrier:  # noqa: N801 (used as a ``with`` block)
+    """WaferScan writes StartZ and FinalZ from the carrier: not the user setting the range."""
+
+    def __enter__(self):
+        _following.append(True)
+
+    def __exit__(self, *exc):
+        _following.pop()
+
+
 class ScanSettings(_Proxy):
-    """The scan's parameters and mapping tolerances, stored in the document."""
+    """The scan's parameters and mapping tolerances, stored in the document. A range that
+    follows the carrier (RangeFromCarrier) stops following it once the user sets it."""
+
+    def onChanged(self, obj, prop):  # noqa: N802 (FreeCAD's name)
+        if (prop in ("StartZ", "FinalZ") and not _following
+                and RANGE_FROM_CARRIER in obj.PropertiesList and obj.RangeFromCarrier
+                and "Restore" not in obj.State  # opened from a file
+                and not getattr(obj.Document, "Transacting", False)):  # an undo or redo
+            obj.RangeFromCarrier = False
 
 
 def make_carrier(doc, name, slot_count, pitch, wafer_diameter, wafer_thickness, support_span):
@@ -221,8 +246,9 @@ SETTINGS_PROPERTIES = (
 )
 
 
-def make_settings(doc, scan, mapping, carrier):
-    """The scan settings object, filled from core ScanParameters and MappingTolerances."""
+def make_settings(doc, scan, mapping, carrier, range_from_carrier=False):
+    """The scan settings object, filled from core ScanParameters and MappingTolerances;
+    ``range_from_carrier``: its range follows the carrier's slots until the user sets it."""
     obj = doc.addObject("App::FeaturePython", "ScanSettings")
     ScanSettings(obj)
     roles.set_role(obj, roles.SETTINGS)
@@ -241,6 +267,9 @@ def make_settings(doc, scan, mapping, carrier):
                        stored_thickness_tolerance(mapping.thickness_tolerance))
     roles.add_property(obj, "App::PropertyString", "Carrier", "Name (label) of the carrier to scan",
                        carrier or "")
+    if range_from_carrier:
+        roles.add_property(obj, "App::PropertyBool", RANGE_FROM_CARRIER, RANGE_FROM_CARRIER_TIP,
+                           True)
     from . import slow_scan_properties  # SPEC §13: Jab, Sweep and the arm's motion
 
     slow_scan_properties.add_to(obj, scan)

@@ -17,10 +17,11 @@ from ..core import schema
 from ..core.errors import InputError
 from ..core.files import validation
 from ..core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameters, Wafer, unit
-from ..core.rules import SEVERAL_CARRIERS, carrier_choice_problem, thickness_tolerance_from_stored
+from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem, slots_scan_range,
+                          thickness_tolerance_from_stored)
 from . import roles
 from .disc import NotADisc, bowed_disc_of, disc_of
-from .features import SETTINGS_PROPERTIES
+from .features import RANGE_FROM_CARRIER, SETTINGS_PROPERTIES
 from .role_properties import SENSOR_PROPERTIES, SLOW_SCAN_PROPERTIES
 from .scene import scene_instances
 from .sensor_properties import read_sensor_settings
@@ -161,6 +162,9 @@ def _settings(scene, beam, carriers):
                 values[field] = checks[field](_value(getattr(obj, prop)))
             except ValueError as exc:
                 raise scene.error(f"{obj.Label}.{prop}: {exc}") from None
+    followed = _followed_carrier(obj, carriers)
+    if followed is not None:  # the range follows the carrier until the user sets it
+        values["start_z"], values["final_z"] = slots_scan_range(followed)
     try:
         schema.check_scan_range(values.get("start_z", 0.0), values.get("final_z", 0.0),
                                 values.get("z_step", 0.0))
@@ -180,6 +184,15 @@ def _settings(scene, beam, carriers):
 
     mapping = recipe_properties.read(obj, mapping, scene.error)
     return scan, mapping, obj.Carrier or None
+
+
+def _followed_carrier(obj, carriers):
+    """The carrier whose slots a ScanSettings object's range follows (RangeFromCarrier on), or
+    None: off, or which carrier is not clear (read_layout says so)."""
+    if not getattr(obj, RANGE_FROM_CARRIER, False):
+        return None
+    chosen = [c for c in carriers if c.name == obj.Carrier] if obj.Carrier else carriers
+    return chosen[0] if len(chosen) == 1 else None
 
 
 def read_layout(doc, scene=None):

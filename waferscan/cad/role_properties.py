@@ -11,7 +11,8 @@ Carrier            CARRIER
 Scanner            SCANNER
 Robot              ROBOT (and RobotLink on each link's shape)
 ScanSettings       SETTINGS (its scan and mapping fields: features.SETTINGS_PROPERTIES; the
-                   recipe: RECIPE_PROPERTIES)
+                   recipe: RECIPE_PROPERTIES); one the GUI's Run scan added also has
+                   features.RANGE_FROM_CARRIER (its range follows the carrier)
 =================  ====================================================================
 """
 

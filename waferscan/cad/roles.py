@@ -6,9 +6,12 @@ carry them too (see ``features``). Each role's properties, with types and units,
 
 from __future__ import annotations
 
+from collections import Counter
+
 import FreeCAD as App
 
 from ..core.files.scenario import SUPPORT_OVERLAP
+from ..core.rules import wafer_like
 from . import role_properties
 from .disc import NotADisc, bowed_disc_of, disc_of
 
@@ -51,21 +54,56 @@ def set_role(obj, role):
     obj.setEditorMode(ROLE, 1)  # read-only in the property editor
 
 
-def tag_wafer(obj):
-    """Give an existing solid the wafer role; refuses (NotADisc) a solid that is not a disc."""
+def wafer_disc(obj):
+    """(diameter, thickness) in mm of the disc an object's solid is; NotADisc, naming the
+    object, when it is not one (a bowed wafer's solid is read with its Bow)."""
     shape = getattr(obj, "Shape", None)
     if shape is None or shape.isNull():
         raise NotADisc(f"{obj.Label} has no shape")
     try:
         try:
-            disc_of(shape)
+            disc = disc_of(shape)
         except NotADisc:
             if not getattr(obj, "Bow", 0.0):
                 raise
-            bowed_disc_of(shape, float(obj.Bow))  # a bowed wafer (SPEC §10) tagged again
+            disc = bowed_disc_of(shape, float(obj.Bow))  # a bowed wafer (SPEC §10) tagged again
     except NotADisc as exc:
         raise NotADisc(f"{obj.Label} is not a wafer: {exc}") from None
+    return disc[2], disc[3]
+
+
+def why_not_a_wafer(obj, diameters=None):
+    """Why WaferScan does not take the object for a wafer when it picks the wafers among many
+    solids itself (``rules.wafer_like``: a thin disc of a SEMI size, or of ``diameters``), or
+    None when it does."""
+    try:
+        diameter, thickness = wafer_disc(obj)
+    except NotADisc as exc:
+        return str(exc).replace(f"{obj.Label} is not a wafer: ", "", 1)
+    return wafer_like(diameter, thickness, *(() if diameters is None else (diameters,)))
+
+
+def tag_wafer(obj):
+    """Give an existing solid the wafer role; refuses (NotADisc) a solid that is not a disc.
+    Returns the disc's (diameter, thickness) in mm."""
+    disc = wafer_disc(obj)
     set_role(obj, WAFER)
+    return disc
+
+
+def tagged_wafer_sizes(doc):
+    """{(diameter, thickness): count} of the discs tagged as wafers in ``doc`` (mm, to the
+    micrometre), the most common first; a tagged object that is no disc now is left out."""
+    sizes = Counter()
+    for obj in doc.Objects:
+        if getattr(obj, ROLE, "") != WAFER:
+            continue
+        try:
+            diameter, thickness = wafer_disc(obj)
+        except NotADisc:
+            continue
+        sizes[(round(diameter, 3), round(thickness, 3))] += 1
+    return dict(sizes.most_common())
 
 
 def tag_carrier(obj, slot_count=25, pitch=10.0, wafer_diameter=300.0, wafer_thickness=0.775,
@@ -132,3 +170,51 @@ def split_compound(obj):
         made.append(part)
     obj.Visibility = False
     return made
+
+
+# The tree's Description column (Label2) shows a tagged object's role whatever its type: FreeCAD
+# 0.20 lets Python change the icon of Python features only. Any text already there is kept
+# after the mark, and Untag takes the mark off again.
+TREE_MARK = "{} (WaferScan)"  # the role first: the column is narrow
+TREE_SEPARATOR = " · "
+
+
+def tree_mark(role):
+    """What the tree's Description column starts with for an object of ``role``."""
+    return TREE_MARK.format(role)
+
+
+def show_role_in_tree(obj):
+    """Put the object's role at the front of its Label2 (the tree's Description column)."""
+    role = role_of(obj)
+    text = _unmarked(obj.Label2)
+    if role is not None:
+        mark = tree_mark(role)
+        text = mark + TREE_SEPARATOR + text if text else mark
+    if obj.Label2 != text:
+        obj.Label2 = text
+
+
+def _unmarked(text):
+    for role in ROLES:
+        mark = tree_mark(role)
+        if text == mark:
+            return ""
+        if text.startswith(mark + TREE_SEPARATOR):
+            return text[len(mark + TREE_SEPARATOR):]
+    return text
+
+
+def built_by_waferscan(obj):
+    """Whether WaferScan built the object (a carrier body, a scanner beam, ScanSettings): its
+    properties are what it is made of, not a role given to it."""
+    return "WaferScanVersion" in obj.PropertiesList
+
+
+def untag(obj):
+    """Take the role off an object tagged by the user: the role's properties (all of the
+    WaferScan group) removed and the tree's mark taken off Label2, so the object is as it was
+    before it was tagged. The caller makes it one undo step."""
+    for name in [p for p in obj.PropertiesList if obj.getGroupOfProperty(p) == GROUP]:
+        obj.removeProperty(name)
+    show_role_in_tree(obj)

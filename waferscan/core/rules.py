@@ -74,3 +74,48 @@ def stored_thickness_tolerance(tolerance):
     (-1.0, 0.35)
     """
     return HALF_THICKNESS_STORED if tolerance is None else tolerance
+
+
+# What a disc must look like to be taken for a wafer when WaferScan picks the wafers among many
+# solids itself (a STEP file split into its solids): far thinner than it is wide, and one of the
+# SEMI wafer sizes (SEMI M1) within a margin that allows for a model drawn a little off. A rod,
+# a collar or a column is a disc to the B-rep (a cylinder with two flat ends), not a wafer.
+SEMI_DIAMETERS = (100.0, 125.0, 150.0, 200.0, 300.0, 450.0)  # mm
+DIAMETER_MARGIN = 1.0  # mm either side of a size
+MIN_ASPECT = 20.0  # diameter / thickness; a 300 mm wafer's is 387, a 100 mm one's 190
+
+
+def wafer_like(diameter, thickness, diameters=SEMI_DIAMETERS, margin=DIAMETER_MARGIN):
+    """Why a disc of ``diameter`` and ``thickness`` (mm) is not taken for a wafer, or None
+    when it is: its diameter at least ``MIN_ASPECT`` times its thickness, and within
+    ``margin`` of one of ``diameters`` (the SEMI sizes, or the sizes the user gives).
+
+    >>> wafer_like(300.0, 0.7) is None, wafer_like(200.2, 0.725) is None
+    (True, True)
+    >>> wafer_like(0.8, 160.0)
+    'a cylinder 0.8 mm across and 160 mm high: a wafer is at least 20 times as wide as thick'
+    >>> wafer_like(250.0, 0.775)
+    'a disc 250 mm across: not a wafer size (100, 125, 150, 200, 300, 450 mm, ± 1 mm)'
+    >>> wafer_like(250.0, 0.775, diameters=(250.0,)) is None
+    True
+    """
+    if not diameter >= MIN_ASPECT * thickness:
+        return (f"a cylinder {diameter:g} mm across and {thickness:g} mm high: a wafer is at "
+                f"least {MIN_ASPECT:g} times as wide as thick")
+    if not any(abs(diameter - size) <= margin for size in diameters):
+        sizes = ", ".join(f"{size:g}" for size in diameters)
+        return f"a disc {diameter:g} mm across: not a wafer size ({sizes} mm, ± {margin:g} mm)"
+    return None
+
+
+def slots_scan_range(carrier):
+    """(start_z, final_z): the scan range that covers the windows of all of ``carrier``'s slots,
+    from slot 1's seat − pitch/2 to the top slot's seat + pitch/2 (SPEC §3), wherever the
+    sensor stands. The GUI's first Run scan takes it, and keeps following it.
+
+    >>> from waferscan.core.model import Carrier
+    >>> slots_scan_range(Carrier("FOUP", 5, 10.0, 10.0, (0.0, 0.0), 300.0, 0.775))
+    (5.0, 55.0)
+    """
+    return (carrier.seat_z(1) - 0.5 * carrier.pitch,
+            carrier.seat_z(carrier.slot_count) + 0.5 * carrier.pitch)

@@ -25,11 +25,11 @@ from .playback import replay_scan, run_scan
 from .results_view import export_results_csv
 from .scanning import open_scenario
 from .session import doc_ref, record, report, session
-from .tagging import tag_selection
+from .tagging import make_carrier_from_solids, tag_selection, untag_selection
 from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 
-__all__ = ["open_scenario", "tag_selection", "run_scan", "replay_scan", "export_results_csv",
-           "calibrate_layout", "open_mcs_panel",
+__all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_from_solids",
+           "run_scan", "replay_scan", "export_results_csv", "calibrate_layout", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
            "stop_tolerance_study", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
@@ -46,11 +46,17 @@ class _Command:
 
     menu, tip, icon = "", "", "WaferScan.svg"
     shows_only = False  # True: usable even while another tool's task panel is open
+    # True: the command's own transactions are the undo steps (FreeCAD otherwise folds every
+    # step a command takes into one, named after the first: a split and its tagging).
+    own_transactions = False
 
     def GetResources(self):
         resources = {"Pixmap": icon_path(self.icon), "MenuText": self.menu, "ToolTip": self.tip}
-        if self.shows_only:
-            resources["CmdType"] = "ForEdit"
+        kinds = ["ForEdit"] if self.shows_only else []
+        if self.own_transactions:
+            kinds.append("NoTransaction")
+        if kinds:
+            resources["CmdType"] = " ".join(kinds)
         return resources
 
     def Activated(self):
@@ -90,6 +96,8 @@ class OpenScenario(_Command):
 
 
 class Tag(_Command):
+    own_transactions = True
+
     def __init__(self, role, tip):
         self.role, self.menu, self.tip = role, f"Tag as {role}", tip
         self.icon = f"WaferScan_Tag{role.capitalize()}.svg"
@@ -100,6 +108,23 @@ class Tag(_Command):
             tag_selection(self.role, selection)  # says what to select
             return
         record(f"tag_selection({self.role!r}, {_objects_ref(selection)})")
+
+    def IsActive(self):
+        return bool(Gui.Selection.getSelection())
+
+
+class SelectionCommand(_Command):
+    """A command on the selection whose call ``function`` is recorded with the selected
+    objects (Untag, Make carrier from solids)."""
+
+    own_transactions = True
+
+    def __init__(self, function, menu, icon, tip):
+        self.function, self.menu, self.icon, self.tip = function, menu, icon, tip
+
+    def run(self):
+        selection = Gui.Selection.getSelection()
+        record(f"{self.function}({_objects_ref(selection)})")
 
     def IsActive(self):
         return bool(Gui.Selection.getSelection())
@@ -202,6 +227,13 @@ TAG_COMMANDS = {
     "WaferScan_TagWafer": Tag("wafer", "Tag the selected solids as wafers (each must be a disc)"),
     "WaferScan_TagCarrier": Tag("carrier", "Tag the selected object as a wafer carrier"),
     "WaferScan_TagScanner": Tag("scanner", "Tag the selected object as the through-beam scanner"),
+    "WaferScan_MakeCarrier": SelectionCommand(
+        "make_carrier_from_solids", "Make carrier from solids", "WaferScan_MakeCarrier.svg",
+        "Gather the selected solids (a carrier's walls and base) into one part, tagged as the "
+        "carrier"),
+    "WaferScan_Untag": SelectionCommand(
+        "untag_selection", "Untag", "WaferScan_Untag.svg",
+        "Take the WaferScan role off the selected objects, as they were before tagging"),
 }
 
 COMMANDS = {

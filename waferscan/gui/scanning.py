@@ -13,6 +13,7 @@ from PySide import QtGui
 
 from ..core.errors import InputError
 from ..core.model import ScanParameters
+from ..core.rules import slots_scan_range
 from . import preferences
 from .inputs import format_length
 from .session import ask, session, transaction
@@ -61,16 +62,16 @@ def ensure_settings(doc, scene=None):
     sensor = preferences.sensor_defaults()
     motion = {k: sensor[k] for k in ("sensor_response", "latch", "acceleration",
                                      "sample_period") if k in sensor}
-    scan = ScanParameters(start_z=carrier.seat_z(1) - 0.5 * carrier.pitch,
-                          final_z=carrier.seat_z(carrier.slot_count) + 0.5 * carrier.pitch,
-                          **motion)
+    start_z, final_z = slots_scan_range(carrier)
+    scan = ScanParameters(start_z=start_z, final_z=final_z, **motion)
     with transaction(doc, "Add WaferScan scan settings"):
         settings = make_settings(doc, scan, preferences.mapping_tolerances(),
-                                 chosen.name if chosen else None)
+                                 chosen.name if chosen else None, range_from_carrier=True)
         add_sensor_values(settings, values_with_defaults(sensor))  # SPEC §10
     App.Console.PrintMessage(f"WaferScan: added {settings.Label} to {doc.Label} (scan of "
                              f"{carrier.name} from {format_length(scan.start_z)} to "
-                             f"{format_length(scan.final_z)}: its slots' windows)\n")
+                             f"{format_length(scan.final_z)}: its slots' windows, followed "
+                             "until you set StartZ or FinalZ)\n")
     return settings
 
 
@@ -162,4 +163,27 @@ def _scan_once(doc):
     if ensure_settings(doc, scene) is not None:
         scene = DocumentScene.of(doc)
     layout = read_layout(doc, scene)
+    show_followed_range(doc, scene, layout)
     return scene, scan_document(doc, "analytic", read=(scene, layout))
+
+
+def show_followed_range(doc, scene, layout):
+    """A range that follows the carrier (RangeFromCarrier) is what the reader computed from
+    the carrier; StartZ and FinalZ are set to it (one undo step, when they differ), so that the
+    property editor shows the range scanned."""
+    from ..cad import roles
+    from ..cad.features import RANGE_FROM_CARRIER, following_carrier
+
+    if not scene.settings:
+        return
+    settings = roles.role_holder(scene.settings[0].obj)
+    if not getattr(settings, RANGE_FROM_CARRIER, False):
+        return
+    scan = layout.scan
+    if (settings.StartZ.Value, settings.FinalZ.Value) == (scan.start_z, scan.final_z):
+        return
+    with following_carrier(), transaction(doc, "Scan range follows the carrier"):
+        settings.StartZ, settings.FinalZ = scan.start_z, scan.final_z
+    App.Console.PrintMessage(f"WaferScan: {settings.Label}: the scan range follows "
+                             f"{layout.carrier}'s slots: {format_length(scan.start_z)} to "
+                             f"{format_length(scan.final_z)}\n")
