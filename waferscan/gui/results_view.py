@@ -14,7 +14,31 @@ from PySide import QtCore, QtGui
 from ..cad.results_sheet import COLUMNS, columns, table_cells
 from ..core.files.report import STATE_COLOURS
 from ..core.mapping import E87, STATE_NAMES
+from .inputs import length_unit
 from .side_view import SideView
+
+MM = " [mm]"
+
+
+def shown_columns(result):
+    """The table's headers with its lengths in the user's unit ("IN [in]" in an inch schema);
+    an exported CSV keeps the stored columns, in mm."""
+    unit, _ = length_unit()
+    return [c.replace(MM, f" [{unit}]") for c in columns(result)]
+
+
+def shown_cell(header, text):
+    """A cell's text as the table shows it: a length column's mm in the user's unit, to the
+    same resolution (two more decimals in inches)."""
+    unit, factor = length_unit()
+    if factor == 1.0 or not header.endswith(MM) or not text:
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    decimals = len(text.partition(".")[2]) + 2
+    return f"{value / factor:.{decimals}f}"
 
 
 def export_start(doc):
@@ -35,14 +59,15 @@ class ResultsTable(QtGui.QDialog):
         self.setWindowTitle("WaferScan results")
         self.result, self.doc = result, doc
         self.table = QtGui.QTableWidget(0, len(columns(result)), self)
-        self.table.setHorizontalHeaderLabels(list(columns(result)))
+        self.table.setHorizontalHeaderLabels(shown_columns(result))
+        headers = columns(result)
         self.table.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
         self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
         for cells, code in table_cells(result):
             row = self.table.rowCount()
             self.table.insertRow(row)
             for column, text in enumerate(cells):
-                item = QtGui.QTableWidgetItem(text)
+                item = QtGui.QTableWidgetItem(shown_cell(headers[column], text))
                 if column == 6:
                     item.setBackground(QtGui.QColor(*STATE_COLOURS[code]))
                 if column in (0, 1, 3, 4, 5) or column >= len(COLUMNS):
@@ -77,8 +102,8 @@ class ResultsTable(QtGui.QDialog):
     def export_csv(self, path):
         with open(path, "w", newline="", encoding="utf-8") as handle:
             writer = csv.writer(handle)
-            writer.writerow(columns(self.result))
-            writer.writerows(self.rows())
+            writer.writerow(columns(self.result))  # in mm whatever the unit schema, as stored
+            writer.writerows(cells for cells, _ in table_cells(self.result))
 
     def _export(self):
         path, _ = QtGui.QFileDialog.getSaveFileName(self, "Export results", export_start(self.doc),
