@@ -200,6 +200,33 @@ def length_value(box):
     return box.value()
 
 
+REFUSED_STYLE = "QLineEdit { border: 1px solid #c01010; background: #fdecec; }"
+
+
+def marked_row(field, reasons):
+    """``field`` with a red label beside it that says why its text is refused (hidden while
+    it is fine), as one row; the label is kept in ``reasons[field]`` (see ``mark``)."""
+    row = QtGui.QWidget()
+    layout = QtGui.QHBoxLayout(row)
+    layout.setContentsMargins(0, 0, 0, 0)
+    layout.addWidget(field, 1)
+    reason = QtGui.QLabel()
+    reason.setStyleSheet("color: #c01010;")
+    reason.setWordWrap(True)
+    reason.hide()
+    layout.addWidget(reason, 1)
+    reasons[field] = reason
+    return row
+
+
+def mark(field, reason, why):
+    """Mark ``field`` refused with ``why`` shown in its ``reason`` label (None: fine)."""
+    field.setStyleSheet(REFUSED_STYLE if why else "")
+    field.setProperty("refused", why or "")
+    reason.setText(why or "")
+    reason.setVisible(bool(why))
+
+
 def folder_row(field, parent, on_chosen, title="MCS folder", tooltip="Choose the MCS folder"):
     """A folder's line edit ``field`` with a Browse… button beside it, as one row (a layout).
     The button opens a folder dialog over ``parent`` at the folder typed, and hands the folder

@@ -3,10 +3,11 @@
 edited where the scan is run. As the "Sensor and slow scan" section does, Apply writes the
 properties in one undo step and reads the document back through the scan's readers, so a recipe
 they refuse (a window whose min is not below its max) is refused here with their words and
-nothing is written; Replay then scans with it. The limits are lengths in the user's unit schema (typed in any
-unit); a limit left blank is not set (its "...Set" box in the property editor unticked): SPEC
-§4's rule from t, Δt and Δp, shown greyed in the empty field. A document saved by an earlier
-version (limits as floats, negative: not set) is shown and written in its own convention."""
+nothing is written; Replay then scans with it. The limits are lengths in the user's unit
+schema (typed in any unit); a limit left blank is not set (its "...Set" box in the property
+editor unticked): SPEC §4's rule from t, Δt and Δp, shown greyed in the empty field. A document
+saved by an earlier version (limits as floats, negative: not set) is shown and written in its
+own convention."""
 
 from __future__ import annotations
 
