@@ -10,7 +10,8 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("units_probe.py")
 ARTIFACTS = REPO / "test-artifacts"
-SHOTS = ("gui-units-inch-sections.png", "gui-units-inch-applied.png")
+SHOTS = ("gui-units-inch-sections.png", "gui-units-inch-applied.png",
+         "gui-units-inch-results.png")
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +49,11 @@ def test_the_results_table_headers_and_lengths_are_in_inches(gui):
     assert float(z_out) - float(z_in) == pytest.approx(float(diff), abs=2e-5)  # each rounded
 
 
+def test_the_exported_csv_stays_in_mm(gui):
+    assert gui["csv_lines"] == ["Slot,Slot Z [mm],Wafer,IN [mm],OUT [mm],Diff [mm],State",
+                                "1,293.94,LP1_W01,293.950,294.600,0.650,present"]
+
+
 def test_minus_one_mm_is_refused_as_not_positive(gui):
     assert gui["negative_applied"] is False
     assert gui["negative_message"] == "Not written: Thickness max: '−1 mm' must be positive or 0"
@@ -75,6 +81,15 @@ def test_a_time_and_an_acceleration_typed_with_their_units(gui):
     assert latch == "sampled"
     # the acceleration in the schema's own unit, as the property editor shows it
     assert gui["sensor_reloaded"] == {"SamplePeriod": "0,5 ms", "Acceleration": "283465 in/min^2"}
+
+
+def test_a_document_saved_the_old_way_is_shown_and_written_in_its_convention(gui):
+    # limits as bare floats in mm, -1 for "not set": shown in inches, blanks not set
+    assert gui["old_shown"] == {"ThicknessMin": "0,0259843 in", "ThicknessMax": "",
+                                "DoubleThreshold": "", "PositionBelow": "", "PositionAbove": ""}
+    assert gui["old_applied"] is True, gui["old_message"]
+    assert gui["old_after"] == ["App::PropertyFloat", 0.66, 1.1, -1.0, 1]
+    assert gui["old_read"] == [0.66, 1.1, None]
 
 
 def test_screenshots_saved():

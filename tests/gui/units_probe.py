@@ -7,7 +7,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, open_section, result, scan_paper_layout, scan_settings, start, task_panel,
+    artifact, finish, open_section, result, scan_paper_layout, scan_settings, start, task_panel,
     wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
@@ -47,6 +47,15 @@ def read_panel():
     result["headers"] = [table.table.horizontalHeaderItem(c).text()
                          for c in range(table.table.columnCount())]
     result["first_row"] = table.rows()[0]
+    table.resize(760, 420)
+    table.show()
+    Gui.updateGui()
+    table.grab().save(artifact("gui-units-inch-results.png"))
+    exported = artifact("units-inch-results.csv")
+    table.export_csv(exported)  # Export CSV… without its file dialog
+    with open(exported, encoding="utf-8") as handle:
+        result["csv_lines"] = handle.read().splitlines()[:2]
+    os.remove(exported)
     table.close()
     window_shot("gui-units-inch-sections.png")
 
@@ -82,6 +91,37 @@ def read_panel():
     window_shot("gui-units-inch-applied.png")
     panel.animation.stop()
     Gui.Control.closeDialog()
+    Gui.updateGui()
+    old_document()
+
+
+def old_document():
+    """The Recipe section on a ScanSettings saved by an earlier version (the limits bare floats
+    in mm, -1 for "not set"): shown in inches, and written back in that convention."""
+    from waferscan.cad.reader import DocumentScene, read_layout
+    from waferscan.gui.recipe_section import RecipeSection
+    from waferscan.gui.session import transaction
+
+    doc = App.ActiveDocument
+    obj = scan_settings()
+    for prop in ("ThicknessMin", "ThicknessMax", "DoubleThreshold", "PositionBelow",
+                 "PositionAbove"):
+        tip = obj.getDocumentationOfProperty(prop)
+        obj.removeProperty(prop)
+        obj.removeProperty(prop + "Set")
+        obj.addProperty("App::PropertyFloat", prop, "WaferScan", tip)
+        setattr(obj, prop, -1.0)
+    obj.ThicknessMin = 0.66
+    section = RecipeSection(doc, lambda d: read_layout(d, DocumentScene.of(d)), transaction)
+    result["old_shown"] = {p: f.text() for p, f in section.fields.items()}
+    undo_before = doc.UndoCount
+    section.fields["ThicknessMax"].setText("1,1 mm")
+    result["old_applied"] = section.apply()
+    result["old_message"] = section.message.text()
+    result["old_after"] = [obj.getTypeIdOfProperty("ThicknessMax"), obj.ThicknessMin,
+                           obj.ThicknessMax, obj.DoubleThreshold, doc.UndoCount - undo_before]
+    mapping = read_layout(doc).mapping
+    result["old_read"] = [mapping.thickness_min, mapping.thickness_max, mapping.double_threshold]
     finish()
 
 
