@@ -60,10 +60,12 @@ def test_a_document_without_a_recipe_judges_by_spec_4():
     plain = build_document(PAPER, "PlainRecipe")
     try:
         settings = plain.getObject("ScanSettings")
-        assert settings.ThicknessMin == -1.0 and settings.Rules == "waferscan"
+        assert settings.ThicknessMinSet is False and settings.Rules == "waferscan"
         assert read_layout(plain).mapping == PAPER.mapping
         for prop in ("ThicknessMin", "ThicknessMax", "DoubleThreshold", "PositionBelow",
-                     "PositionAbove", "Rules", "ThicknessCorrection"):
+                     "PositionAbove", "Rules", "ThicknessCorrection", "ThicknessMinSet",
+                     "ThicknessMaxSet", "DoubleThresholdSet", "PositionBelowSet",
+                     "PositionAboveSet"):
             settings.removeProperty(prop)  # as a document made before the recipe
         assert read_layout(plain).mapping == MappingTolerances(
             position_tolerance=0.5, protrusion_limit=1.0)

@@ -14,6 +14,12 @@ import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
 
 
+def limit(prop):
+    """A recipe limit of the document in mm, None when not set (its ...Set box unticked)."""
+    from waferscan.cad.recipe_properties import limit_value
+    return limit_value(scan_settings(), prop)
+
+
 def begin():
     first = scan_paper_layout()
     first.speed.setValue(1.0)
@@ -34,7 +40,7 @@ def edit_recipe():
     section.fields["ThicknessMax"].setText("0.8")
     result["bad_applied"] = section.apply()
     result["bad_message"] = section.message.text()
-    result["after_bad"] = [scan_settings().ThicknessMin, scan_settings().ThicknessMax,
+    result["after_bad"] = [limit("ThicknessMin"), limit("ThicknessMax"),
                            App.ActiveDocument.UndoCount - undo_before]
     section.fields["ThicknessMin"].setText("0.66")
     section.fields["ThicknessMax"].setText("")
@@ -42,7 +48,7 @@ def edit_recipe():
     result["good_applied"] = section.apply()
     result["good_message"] = section.message.text()
     stored = scan_settings()
-    result["after_good"] = [stored.ThicknessMin, stored.ThicknessMax, stored.Rules,
+    result["after_good"] = [limit("ThicknessMin"), limit("ThicknessMax"), stored.Rules,
                             App.ActiveDocument.UndoCount - undo_before,
                             App.ActiveDocument.UndoNames[0]]
     window_shot("gui-scan-panel-recipe.png")

@@ -1,7 +1,7 @@
 # Run by FreeCAD's GUI (tests/gui/test_gui_sensor_preferences.py): the sensor defaults on the
 # WaferScan preferences page, set as a user sets them (the dialog's fields, OK), then a new
 # paper layout and Run scan's new ScanSettings on a document without one get them, while a
-# document built before keeps its own values.
+# document built before keeps its own values; defaults that do not fit together grey OK out.
 import os
 import sys
 
@@ -66,9 +66,14 @@ def open_preferences(key, edit, then):
                        "shape": shape.currentText(), "latch": latch.currentText(),
                        "diameter_enabled": fields["SpotDiameter"].isEnabled(),
                        "fits": screen.contains(frame)}
-        if edit == "bad":  # OFF above ON: refused as a whole, the stored values kept
+        if edit == "bad":  # OFF above ON: refused in place (OK greyed), so the user cancels
             fields["ThresholdOff"].setText("0.9")
             fields["SpotDiameter"].setText("3 mm")
+            QtGui.QApplication.processEvents()
+            ok = [b for b in dialog.findChildren(QtGui.QPushButton)
+                  if b.text().replace("&", "") in ("OK", "Cancel")]
+            result[key]["ok_enabled"] = [b.isEnabled() for b in ok if "OK" in b.text()]
+            next(b for b in ok if "Cancel" in b.text()).click()
         elif edit:
             shape.setCurrentIndex(1)  # round spot
             latch.setCurrentIndex(latch.findText("encoder"))

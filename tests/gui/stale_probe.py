@@ -21,6 +21,12 @@ def begin():
     wait_for("the first scan's end", lambda: first.animation.ended, undo_apply)
 
 
+def recipe_min():
+    """The document's thickness min in mm, None when not set (its ThicknessMinSet unticked)."""
+    from waferscan.cad.recipe_properties import limit_value
+    return limit_value(scan_settings(), "ThicknessMin")
+
+
 def fields(panel):
     return {"ThicknessMin": panel.recipe_section.fields["ThicknessMin"].text(),
             "ThresholdOn": panel.sensor.fields["ThresholdOn"].text()}
@@ -35,22 +41,22 @@ def undo_apply():
     result["recipe_applied"] = panel.recipe_section.apply()
     panel.sensor.fields["ThresholdOn"].setText("0.7")
     result["sensor_applied"] = panel.sensor.apply()
-    result["document_applied"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
+    result["document_applied"] = [recipe_min(), scan_settings().ThresholdOn]
     result["fields_applied"] = fields(panel)
     Gui.runCommand("Std_Undo")
     Gui.updateGui()
-    result["document_undone_once"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
+    result["document_undone_once"] = [recipe_min(), scan_settings().ThresholdOn]
     result["fields_undone_once"] = fields(panel)
     Gui.runCommand("Std_Undo")
     Gui.updateGui()
-    result["document_undone"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
+    result["document_undone"] = [recipe_min(), scan_settings().ThresholdOn]
     result["fields_undone"] = fields(panel)
     result["messages_undone"] = [panel.recipe_section.message.text(),
                                  panel.sensor.message.text()]
     window_shot("gui-scan-panel-undone.png")
     Gui.runCommand("Std_Redo")
     Gui.updateGui()
-    result["document_redone"] = [scan_settings().ThicknessMin, scan_settings().ThresholdOn]
+    result["document_redone"] = [recipe_min(), scan_settings().ThresholdOn]
     result["fields_redone"] = fields(panel)
     Gui.runCommand("Std_Undo")  # back to the scanned values for the replays below
     Gui.updateGui()

@@ -10,7 +10,7 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("stale_probe.py")
 ARTIFACTS = REPO / "test-artifacts"
-NOT_SET = -1.0
+NOT_SET = None  # ThicknessMinSet unticked
 
 
 @pytest.fixture(scope="module")
@@ -32,7 +32,7 @@ def test_the_sections_follow_undo_and_redo(gui):
     for message in gui["messages_undone"]:
         assert message.startswith("Changed in the document (Undo, Redo"), message
     assert gui["document_redone"] == [0.6, 0.5]
-    assert gui["fields_redone"] == {"ThicknessMin": "0.6", "ThresholdOn": "0.5"}
+    assert gui["fields_redone"] == {"ThicknessMin": "0.6 mm", "ThresholdOn": "0.5"}
     assert gui["fields_final"] == before
     assert (ARTIFACTS / "gui-scan-panel-undone.png").stat().st_size > 1000
 

@@ -1,7 +1,12 @@
 """SPEC §11's mapping recipe on the document's ScanSettings object: the thickness and position
-windows, the double threshold, the rule set and the thickness correction. A limit that is not
-set is stored as a negative number (the property editor has no "empty"), as ThicknessTolerance
-is; a document made before the recipe has none of them and judges by SPEC §4."""
+windows, the double threshold, the rule set and the thickness correction. Each limit is a length
+(App::PropertyLength, shown in the user's unit schema) with a box beside it, ``ThicknessMinSet``
+and so on: not ticked, the limit is not set and SPEC §4's rule from t, Δt and Δp applies. A
+document made before the recipe has none of them and judges by SPEC §4.
+
+Documents saved by earlier versions hold the limits as App::PropertyFloat in mm, a negative
+number meaning "not set": ``read`` reads both, and ``upgrade`` turns such an object's limits into
+today's properties (the recipe unchanged)."""
 
 from __future__ import annotations
 
@@ -11,11 +16,18 @@ from ..core import schema
 from ..core.mapping import RULE_SETS
 from ..core.recipe import DEFAULTS
 from . import roles
-from .role_properties import RECIPE_PROPERTIES
+from .role_properties import RECIPE_PROPERTIES, RECIPE_SET_PROPERTIES
 
-# The limits that follow t, Δt and Δp when not set (stored negative).
+# The limits that follow t, Δt and Δp when not set.
 _OPTIONAL = tuple(key for key, value in DEFAULTS.items() if value is None)
-NOT_SET = -1.0
+_SET_TIPS = {limit: tip for _, limit, tip in RECIPE_SET_PROPERTIES}
+LIMITS = tuple(_SET_TIPS)  # the limit properties, each with its "...Set" box
+OLD_KIND = "App::PropertyFloat"  # the limits' type before (negative: not set)
+
+
+def set_flag(prop):
+    """The box beside a limit property: "ThicknessMin" -> "ThicknessMinSet"."""
+    return f"{prop}Set"
 
 
 def add_to(obj, mapping):
@@ -26,15 +38,34 @@ def add_to(obj, mapping):
             roles.add_property(obj, kind, prop, tip)
             setattr(obj, prop, list(RULE_SETS))
             setattr(obj, prop, value)
+        elif prop in _SET_TIPS:
+            roles.add_property(obj, kind, prop, tip, 0.0 if value is None else value)
+            roles.add_property(obj, "App::PropertyBool", set_flag(prop), _SET_TIPS[prop],
+                               value is not None)
         else:
-            roles.add_property(obj, kind, prop, tip, NOT_SET if value is None else value)
+            roles.add_property(obj, kind, prop, tip, value)
 
 
 def set_values(obj, mapping):
     """Write a mapping's recipe into an object that has the properties (a calibration's)."""
+    upgrade(obj)
     for prop, _, key, _ in RECIPE_PROPERTIES:
         value = getattr(mapping, key)
-        setattr(obj, prop, NOT_SET if value is None else value)
+        if prop in _SET_TIPS:
+            setattr(obj, prop, 0.0 if value is None else value)
+            setattr(obj, set_flag(prop), value is not None)
+        else:
+            setattr(obj, prop, value)
+
+
+def limit_value(obj, prop):
+    """A limit property's value in mm, or None when it is not set (today's box, or an earlier
+    version's negative float)."""
+    raw = getattr(obj, prop)
+    number = float(getattr(raw, "Value", raw))
+    if set_flag(prop) in obj.PropertiesList:
+        return number if getattr(obj, set_flag(prop)) else None
+    return None if number < 0.0 else number
 
 
 def read(obj, mapping, error):
@@ -49,14 +80,34 @@ def read(obj, mapping, error):
         if key == "rules":
             values[key] = str(raw)
             continue
-        number = float(getattr(raw, "Value", raw))
-        if key in _OPTIONAL and number < 0.0:
-            continue  # not set
+        if prop in _SET_TIPS:
+            number = limit_value(obj, prop)
+            if number is None and key in _OPTIONAL:
+                continue  # not set
+        else:
+            number = float(getattr(raw, "Value", raw))
         try:
             values[key] = schema.MAPPING_KEYS[key](number)
         except ValueError as exc:
             raise error(f"{obj.Label}.{prop}: {exc}") from None
     return replace(mapping, **values)
+
+
+def upgrade(obj):
+    """Bring an object saved by an earlier version (limits as floats, negative: not set) up to
+    today's properties, its recipe unchanged. True when something was changed."""
+    changed = False
+    for prop, kind, _, tip in RECIPE_PROPERTIES:
+        if prop not in _SET_TIPS or prop not in obj.PropertiesList or \
+                obj.getTypeIdOfProperty(prop) != OLD_KIND:
+            continue
+        value = limit_value(obj, prop)
+        obj.removeProperty(prop)
+        roles.add_property(obj, kind, prop, tip, 0.0 if value is None else value)
+        roles.add_property(obj, "App::PropertyBool", set_flag(prop), _SET_TIPS[prop],
+                           value is not None)
+        changed = True
+    return changed
 
 
 def property_of(key):

@@ -119,19 +119,25 @@ SLOW_SCAN_PROPERTIES = (
 )
 
 # SPEC §11's recipe (core/recipe.py), as (property, kind, key, tooltip): cad/recipe_properties.py
-# adds and reads them. A negative limit means "not set": the SPEC §4 rule from t, Δt and Δp.
+# adds and reads them. Each limit is a length with a box beside it (RECIPE_SET_PROPERTIES): not
+# ticked, the limit is not set and SPEC §4's rule from t, Δt and Δp applies. (Documents saved
+# before kept the limits as floats in mm, negative meaning "not set": the reader reads both.)
 RECIPE_PROPERTIES = (
-    ("ThicknessMin", "App::PropertyFloat", "thickness_min",
-     "Recipe: shortest run in mm of a present wafer; negative: t - thickness tolerance"),
-    ("ThicknessMax", "App::PropertyFloat", "thickness_max",
-     "Recipe: longest run in mm of a present wafer; negative: t + thickness tolerance"),
-    ("DoubleThreshold", "App::PropertyFloat", "double_threshold",
-     "Recipe: a run longer than this in mm is cross-slotted; negative: 2t + thickness tolerance "
-     "(2.5 t under the boundary rules)"),
-    ("PositionBelow", "App::PropertyFloat", "position_below",
-     "Recipe: how far in mm a run's bottom may lie below its seat; negative: PositionTolerance"),
-    ("PositionAbove", "App::PropertyFloat", "position_above",
-     "Recipe: how far in mm a run's bottom may lie above its seat; negative: PositionTolerance"),
+    ("ThicknessMin", "App::PropertyLength", "thickness_min",
+     "Recipe: shortest run of a present wafer (used when ThicknessMinSet is ticked; "
+     "otherwise t - thickness tolerance)"),
+    ("ThicknessMax", "App::PropertyLength", "thickness_max",
+     "Recipe: longest run of a present wafer (used when ThicknessMaxSet is ticked; "
+     "otherwise t + thickness tolerance)"),
+    ("DoubleThreshold", "App::PropertyLength", "double_threshold",
+     "Recipe: a run longer than this is cross-slotted (used when DoubleThresholdSet is "
+     "ticked; otherwise 2t + thickness tolerance, 2.5 t under the boundary rules)"),
+    ("PositionBelow", "App::PropertyLength", "position_below",
+     "Recipe: how far a run's bottom may lie below its seat (used when PositionBelowSet is "
+     "ticked; otherwise PositionTolerance)"),
+    ("PositionAbove", "App::PropertyLength", "position_above",
+     "Recipe: how far a run's bottom may lie above its seat (used when PositionAboveSet is "
+     "ticked; otherwise PositionTolerance)"),
     ("Rules", "App::PropertyEnumeration", "rules",
      "Recipe: waferscan (a run by its bottom edge, SPEC §4) or boundary (by its centre and the "
      "slot boundaries, SPEC §11)"),
@@ -139,11 +145,19 @@ RECIPE_PROPERTIES = (
      "Recipe: measured diffs are divided by this before they are judged (calibration)"),
 )
 
+# The box beside each recipe limit, as (property, limit property, tooltip).
+RECIPE_SET_PROPERTIES = tuple(
+    (f"{prop}Set", prop, f"Recipe: ticked, {prop} is this recipe's limit; not ticked, it is not "
+     "set and SPEC §4's rule applies") for prop, kind, _, _ in RECIPE_PROPERTIES
+    if kind == "App::PropertyLength")
+
 SETTINGS += tuple(RoleProperty(name, kind, _UNITS[name], tip)
                   for name, kind, _, tip in SENSOR_PROPERTIES + SLOW_SCAN_PROPERTIES)
 SETTINGS += (RoleProperty("Latch", "App::PropertyEnumeration", "", LATCH_TIP),)
 SETTINGS += tuple(RoleProperty(name, kind, "" if key in ("rules", "thickness_correction")
                                else "mm", tip) for name, kind, key, tip in RECIPE_PROPERTIES)
+SETTINGS += tuple(RoleProperty(name, "App::PropertyBool", "", tip)
+                  for name, _, tip in RECIPE_SET_PROPERTIES)
 
 BY_ROLE = {"Wafer": (), "Carrier": CARRIER, "Scanner": SCANNER, "Robot": ROBOT,
            "ScanSettings": SETTINGS}

@@ -11,7 +11,8 @@ from PySide import QtGui
 
 from ..core.model import MappingTolerances
 from ..core.rules import HALF_THICKNESS_STORED, thickness_tolerance_from_stored
-from .inputs import folder_row, length_input, length_value, set_length
+from .qt import alive
+from .inputs import folder_row, length_input, length_value, mark, marked_row, set_length
 from .sensor_preferences import SensorDefaultsBox, sensor_defaults  # noqa: F401 (for scanning)
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
@@ -61,11 +62,17 @@ def set_values(thickness_tolerance=None, position_tolerance=None, protrusion_lim
 
 
 class PreferencesPage:
-    """The page FreeCAD's preferences dialog shows; it calls loadSettings and saveSettings."""
+    """The page FreeCAD's preferences dialog shows; it calls loadSettings and saveSettings.
+    FreeCAD's dialog lets only its C++ pages refuse OK (their checkSettings slot), so the page
+    checks each edit as it is typed: a refused field is marked red with the reason beside it,
+    the top of the page says so, and the dialog's OK and Apply are greyed out until it is
+    corrected. OK stores only what was edited."""
 
     def __init__(self, parent=None):
         self.form = QtGui.QWidget(parent)
         self.form.setWindowTitle("WaferScan")
+        self.reasons = {}  # field: the label beside it that says why its text is refused
+        self._loaded = {}
         tolerances = QtGui.QGroupBox("Slot mapping (layouts that do not set their own)")
         form = QtGui.QFormLayout(tolerances)
         self.half_thickness = QtGui.QCheckBox("half the nominal wafer thickness")
@@ -74,17 +81,17 @@ class PreferencesPage:
         self.thickness = length_input(0.35, "Thickness tolerance of a sensor run")
         self.half_thickness.toggled.connect(lambda on: self.thickness.setEnabled(not on))
         row = QtGui.QHBoxLayout()
-        row.addWidget(self.thickness)
+        row.addWidget(marked_row(self.thickness, self.reasons), 1)
         row.addWidget(self.half_thickness)
         form.addRow("Thickness tolerance", row)
         self.position = length_input(_DEFAULTS.position_tolerance,
                                      "How far a run's lower edge may lie from its slot's "
                                      "seat before it is a position error (code 5)")
-        form.addRow("Position tolerance", self.position)
+        form.addRow("Position tolerance", marked_row(self.position, self.reasons))
         self.protrusion = length_input(_DEFAULTS.protrusion_limit,
                                        "How far a wafer may stick out of the carrier's front "
                                        "before it is reported protruding (code 6)")
-        form.addRow("Protrusion limit", self.protrusion)
+        form.addRow("Protrusion limit", marked_row(self.protrusion, self.reasons))
         link = QtGui.QGroupBox("MCS link")
         link_form = QtGui.QFormLayout(link)
         self.folder = QtGui.QLineEdit()
@@ -109,10 +116,25 @@ class PreferencesPage:
                              (self.speed, "PlaybackSeconds")):
             widget.setObjectName(name)
         self.sensor = SensorDefaultsBox()
+        # Said at the top of the page while a field is refused (and OK cannot store it).
+        self.problem = QtGui.QLabel()
+        self.problem.setObjectName("Problem")
+        self.problem.setStyleSheet("color: #c01010; font-weight: bold;")
+        self.problem.setWordWrap(True)
+        self.problem.hide()
         layout = QtGui.QVBoxLayout(self.form)
+        layout.addWidget(self.problem)
         for box in (tolerances, self.sensor.box, link, animation):
             layout.addWidget(box)
         layout.addStretch(1)
+        # Each edit is checked at once: a refused field is marked with its reason beside it,
+        # and the dialog's OK and Apply wait until it is corrected (FreeCAD's preferences
+        # dialog stores every page on OK, and only its C++ pages can refuse there).
+        for field in (self.thickness, self.position, self.protrusion, *self.sensor.fields.values()):
+            field.textChanged.connect(self.check)
+        for combo in (self.sensor.shape, self.sensor.latch):
+            combo.currentIndexChanged.connect(self.check)
+        self.half_thickness.toggled.connect(self.check)
 
     def loadSettings(self):
         mapping = mapping_tolerances()
@@ -125,29 +147,80 @@ class PreferencesPage:
         self._loaded_speed = playback_seconds()
         self.speed.setValue(self._loaded_speed)
         self._shown_speed = self.speed.value()  # rounded to the field's decimals
+        self._loaded = {"half": self.half_thickness.isChecked(), "folder": self.folder.text()}
         self.sensor.load()
+        self.check()
+
+    def problems(self):
+        """{field: why} for every field whose text is refused (the sensor group's included)."""
+        problems = {}
+        fields = (self.position, self.protrusion) if self.half_thickness.isChecked() else \
+            (self.thickness, self.position, self.protrusion)
+        for field in fields:
+            try:
+                length_value(field)
+            except ValueError as exc:
+                problems[field] = str(exc)
+        for field, reason in self.reasons.items():
+            mark(field, reason, problems.get(field))
+        problems.update(self.sensor.problems())
+        return problems
+
+    def check(self, *_):
+        """Mark the refused fields with their reasons, say so at the top of the page and keep
+        the dialog's OK and Apply from storing them. True when every field is sound."""
+        problems = self.problems()
+        count = len(problems)
+        self.problem.setText("" if not count else
+                             f"{count} field{'s' if count > 1 else ''} marked in red "
+                             f"{'need' if count > 1 else 'needs'} correcting: OK stores "
+                             "nothing until then (Cancel keeps what is stored).")
+        self.problem.setVisible(bool(count))
+        for button in self._dialog_buttons():
+            try:
+                button.setEnabled(not count)
+            except RuntimeError:  # a stale PySide2 wrapper of a button the dialog replaced
+                pass
+        return not count
+
+    def _dialog_buttons(self):
+        """The preferences dialog's OK and Apply buttons (none before the page is in it)."""
+        if not alive(self.form):
+            return []
+        dialog = self.form.window()
+        if dialog is self.form or not alive(dialog):
+            return []
+        buttons = []
+        roles = (QtGui.QDialogButtonBox.AcceptRole, QtGui.QDialogButtonBox.ApplyRole)
+        for box in dialog.findChildren(QtGui.QDialogButtonBox):
+            buttons += [b for b in box.findChildren(QtGui.QPushButton)
+                        if alive(b) and box.buttonRole(b) in roles]
+        return buttons
 
     def saveSettings(self):
-        """Store what the page shows. A field the user left alone stores the exact value it
-        was loaded with (not its rounded text); one typed wrong keeps its old value, and says
-        so in the report view (the dialog is closing)."""
-
-        def typed(field, name):
-            try:
-                return length_value(field)
-            except ValueError as exc:
-                App.Console.PrintError(f"WaferScan preferences: {name} not changed: {exc}\n")
-                return None
-
-        thickness = HALF_THICKNESS_STORED if self.half_thickness.isChecked() else \
-            typed(self.thickness, "thickness tolerance")
+        """Store what the user changed on the page: a field left alone stores nothing (not
+        even its exact value again). With a field refused nothing of the page is stored (OK is
+        kept from being pressed then; this is the last guard)."""
+        problems = self.problems()
+        if problems:
+            App.Console.PrintError("WaferScan preferences: nothing stored: " + "; ".join(
+                problems.values()) + "\n")
+            return
+        half = self.half_thickness.isChecked()
+        thickness = None
+        if half and not self._loaded.get("half"):
+            thickness = HALF_THICKNESS_STORED
+        elif not half and (self._loaded.get("half") or self.thickness.edited()):
+            thickness = length_value(self.thickness)
         speed = self.speed.value()
-        if self._loaded_speed is not None and speed == self._shown_speed:
-            speed = self._loaded_speed  # shown rounded, not edited: kept exactly
+        folder = self.folder.text().strip()
         set_values(thickness_tolerance=thickness,
-                   position_tolerance=typed(self.position, "position tolerance"),
-                   protrusion_limit=typed(self.protrusion, "protrusion limit"),
-                   folder=self.folder.text().strip(), speed=speed)
+                   position_tolerance=length_value(self.position)
+                   if self.position.edited() else None,
+                   protrusion_limit=length_value(self.protrusion)
+                   if self.protrusion.edited() else None,
+                   folder=folder if folder != self._loaded.get("folder", "").strip() else None,
+                   speed=speed if speed != self._shown_speed else None)
         self.sensor.save()
 
 

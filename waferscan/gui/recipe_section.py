@@ -3,21 +3,26 @@
 edited where the scan is run. As the "Sensor and slow scan" section does, Apply writes the
 properties in one undo step and reads the document back through the scan's readers, so a recipe
 they refuse (a window whose min is not below its max) is refused here with their words and
-nothing is written; Replay then scans with it. A limit left blank is not set: SPEC §4's rule
-from t, Δt and Δp (shown greyed in the empty field)."""
+nothing is written; Replay then scans with it. The limits are lengths in the user's unit
+schema (typed in any unit); a limit left blank is not set (its "...Set" box in the property
+editor unticked): SPEC §4's rule from t, Δt and Δp, shown greyed in the empty field. A document
+saved by an earlier version (limits as floats, negative: not set) is shown and written in its
+own convention."""
 
 from __future__ import annotations
 
 from PySide import QtGui
 
-from ..cad.recipe_properties import NOT_SET
+from ..cad.recipe_properties import OLD_KIND, limit_value, set_flag
 from ..core.mapping import RULE_SETS
-from .settings_section import SettingsSection
+from .inputs import QuantityField, format_length, normalise
+from .settings_section import SettingsSection, settings_object
 
-# (property, label): lengths in mm as the properties hold them; blank means not set.
-LIMITS = (("ThicknessMin", "Thickness min (mm)"), ("ThicknessMax", "Thickness max (mm)"),
-          ("DoubleThreshold", "Cross beyond (mm)"), ("PositionBelow", "Below seat (mm)"),
-          ("PositionAbove", "Above seat (mm)"))
+# (property, label): lengths in the user's unit; blank means not set.
+LIMITS = (("ThicknessMin", "Thickness min"), ("ThicknessMax", "Thickness max"),
+          ("DoubleThreshold", "Cross beyond"), ("PositionBelow", "Below seat"),
+          ("PositionAbove", "Above seat"))
+OLD_NOT_SET = -1.0  # an earlier version's "not set" (App::PropertyFloat limits)
 PROPERTIES = tuple(p for p, _ in LIMITS) + ("ThicknessCorrection", "Rules")
 
 
@@ -33,6 +38,7 @@ class RecipeSection(SettingsSection):
     missing = "No ScanSettings with a recipe: Run scan adds one."
     written = "Run scan or Replay to judge by them."
     properties = PROPERTIES
+    followed = tuple(set_flag(p) for p, _ in LIMITS)
 
     def __init__(self, doc, check, transaction, applied=None, plan=None):
         self.plan = plan
@@ -53,10 +59,10 @@ class RecipeSection(SettingsSection):
                         "PositionAbove": above}
         self.fields = {}
         for prop, label in LIMITS:
-            field = QtGui.QLineEdit()
+            field = QuantityField("length", 0.0, f"{label}; blank: not set, SPEC §4's rule")
+            field.setText("")
             if prop in defaults:
-                field.setPlaceholderText(f"{defaults[prop]:g}")
-            field.setToolTip(f"{label}; blank: SPEC §4's rule")
+                field.setPlaceholderText(format_length(defaults[prop]))
             self.fields[prop] = field
             form.addRow(label, field)
         self.correction = QtGui.QLineEdit()
@@ -65,26 +71,45 @@ class RecipeSection(SettingsSection):
 
     def fill(self, obj):
         for prop, _ in LIMITS:
-            value = float(getattr(obj, prop))
-            self.fields[prop].setText("" if value < 0.0 else f"{value:g}")
+            value = limit_value(obj, prop)
+            if value is None:
+                self.fields[prop].set_value(0.0)
+                self.fields[prop].setText("")
+            else:
+                self.fields[prop].set_value(value)
         self.correction.setText(f"{float(obj.ThicknessCorrection):g}")
         self.rules.setCurrentIndex(self.rules.findText(str(obj.Rules)))
 
+    def _old(self, obj):
+        return obj is not None and obj.getTypeIdOfProperty("ThicknessMin") == OLD_KIND
+
     def values(self):
-        """{property: value} as typed; ValueError naming the field when one is not a number."""
+        """{property: value} as typed (limits in mm, each with its "...Set" box; in an earlier
+        version's document the limit alone, -1 when blank); ValueError naming the field when
+        one is not a length or not a number."""
+        old = self._old(settings_object(self.doc))
         values = {}
-        for prop, label in LIMITS + (("ThicknessCorrection", "Thickness correction"),):
-            field = self.fields.get(prop, self.correction)
-            text = field.text().strip()
-            if not text and prop != "ThicknessCorrection":
-                values[prop] = NOT_SET
+        for prop, label in LIMITS:
+            field = self.fields[prop]
+            if not field.text().strip():
+                values[prop if old else set_flag(prop)] = OLD_NOT_SET if old else False
                 continue
             try:
-                values[prop] = float(text)
-            except ValueError:
-                raise ValueError(f"{label}: {text!r} is not a number") from None
+                values[prop] = field.value()
+            except ValueError as exc:
+                raise ValueError(f"{label}: {exc}") from None
+            if not old:
+                values[set_flag(prop)] = True
+        text = self.correction.text().strip()
+        try:
+            values["ThicknessCorrection"] = float(normalise(text))
+        except ValueError:
+            raise ValueError(f"Thickness correction: {text!r} is not a number") from None
         values["Rules"] = self.rules.currentText()
         return values
 
     def current(self, obj, prop):
-        return str(obj.Rules) if prop == "Rules" else float(getattr(obj, prop))
+        if prop == "Rules":
+            return str(obj.Rules)
+        value = getattr(obj, prop)
+        return value if isinstance(value, bool) else float(getattr(value, "Value", value))

@@ -15,8 +15,32 @@ from PySide import QtCore, QtGui
 from ..cad.results_sheet import COLUMNS, columns, table_cells
 from ..core.files.report import STATE_COLOURS, duration_note
 from ..core.mapping import E87, STATE_NAMES
+from .inputs import length_unit
 from .session import doc_ref, last_result, record
 from .side_view import SideView
+
+MM = " [mm]"
+
+
+def shown_columns(result):
+    """The table's headers with its lengths in the user's unit ("IN [in]" in an inch schema);
+    an exported CSV keeps the stored columns, in mm."""
+    unit, _ = length_unit()
+    return [c.replace(MM, f" [{unit}]") for c in columns(result)]
+
+
+def shown_cell(header, text):
+    """A cell's text as the table shows it: a length column's mm in the user's unit, to the
+    same resolution (two more decimals in inches)."""
+    unit, factor = length_unit()
+    if factor == 1.0 or not header.endswith(MM) or not text:
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    decimals = len(text.partition(".")[2]) + 2
+    return f"{value / factor:.{decimals}f}"
 
 
 def export_start(doc):
@@ -37,14 +61,15 @@ class ResultsTable(QtGui.QDialog):
         self.setWindowTitle("WaferScan results")
         self.result, self.doc = result, doc
         self.table = QtGui.QTableWidget(0, len(columns(result)), self)
-        self.table.setHorizontalHeaderLabels(list(columns(result)))
+        self.table.setHorizontalHeaderLabels(shown_columns(result))
+        headers = columns(result)
         self.table.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
         self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
         for cells, code in table_cells(result):
             row = self.table.rowCount()
             self.table.insertRow(row)
             for column, text in enumerate(cells):
-                item = QtGui.QTableWidgetItem(text)
+                item = QtGui.QTableWidgetItem(shown_cell(headers[column], text))
                 if column == 6:
                     item.setBackground(QtGui.QColor(*STATE_COLOURS[code]))
                 if column in (0, 1, 3, 4, 5) or column >= len(COLUMNS):
@@ -87,7 +112,8 @@ class ResultsTable(QtGui.QDialog):
                     Gui.Selection.addSelection(obj)
 
     def export_csv(self, path):
-        """Write the table (this dialog's result) as CSV to ``path``, whole or not at all."""
+        """Write the table (this dialog's result) as CSV to ``path``, whole or not at all, in
+        mm whatever the unit schema (as stored)."""
         write_csv(self.result, path)
 
     def _export(self):

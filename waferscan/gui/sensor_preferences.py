@@ -16,7 +16,7 @@ from PySide import QtGui
 from ..core import schema
 from ..core.sensor import settings as sensor_settings
 from ..core.sensor.motion import LATCHES, SAMPLED, STEP
-from .inputs import length_input, length_value, set_length
+from .inputs import QuantityField, mark, marked_row, normalise
 
 PARAMETERS = "User parameter:BaseApp/Preferences/Mod/WaferScan"
 SHAPES = ("line", "round", "slit")  # the ideal line, spot_diameter, spot_width x spot_height
@@ -109,9 +109,9 @@ def store(values):
 
 
 class UnitField(QtGui.QLineEdit):
-    """A number in a fixed unit (a threshold's fraction, mm/s², ms), shown as "250 ms" and typed
-    with or without the unit. Like inputs.LengthField it keeps the exact value it was given
-    until the user edits the text (a dialog merely accepted changes nothing)."""
+    """A number in a fixed unit (a threshold's fraction "of the spot"), shown as "0.5 of the
+    spot" and typed with or without the unit. Like inputs.QuantityField it keeps the exact value
+    it was given until the user edits the text (a dialog merely accepted changes nothing)."""
 
     def __init__(self, unit, scale=1.0, tooltip=""):
         super().__init__()
@@ -130,13 +130,13 @@ class UnitField(QtGui.QLineEdit):
         """The stored value; ValueError when the typed text is not a number in this unit."""
         if self.text() == self._text_shown:
             return self._exact
-        text = self.text().strip()
+        text = normalise(self.text())
         if self.unit and text.endswith(self.unit):
             text = text[:-len(self.unit)].strip()
         try:
             number = float(text)
         except ValueError:
-            raise ValueError(f"{self.text()!r} is not a number"
+            raise ValueError(f"{self.text().strip()!r} is not a number"
                              + (f" in {self.unit}" if self.unit else "")) from None
         return number * self.scale
 
@@ -152,33 +152,36 @@ class SensorDefaultsBox:
         self.shape.setToolTip("The beam's cross-section: the paper's ideal line, a round spot "
                               "(diameter) or a slit (width x height)")
         form.addRow("Beam spot", self.shape)
-        self.diameter = length_input(0.0, "Diameter of a round beam spot")
-        form.addRow("Spot diameter", self.diameter)
-        self.width = length_input(0.0, "Width of a slit beam spot")
-        form.addRow("Spot width", self.width)
-        self.height = length_input(0.0, "Height of a slit beam spot (along the lift)")
-        form.addRow("Spot height", self.height)
+        self.diameter = QuantityField("length", 0.0, "Diameter of a round beam spot")
+        self.width = QuantityField("length", 0.0, "Width of a slit beam spot")
+        self.height = QuantityField("length", 0.0, "Height of a slit beam spot (along the lift)")
         self.on = UnitField("of the spot", tooltip="Blocked fraction of the spot at which the "
                             "amplifier's output turns ON (0.5: half the spot)")
-        form.addRow("Threshold ON", self.on)
         self.off = UnitField("of the spot", tooltip="Blocked fraction below which the output "
                              "turns OFF again; below ON: hysteresis")
-        form.addRow("Threshold OFF", self.off)
         self.latch = QtGui.QComboBox()
         self.latch.addItems(list(LATCHES))
         self.latch.setToolTip("step: edges on the step grid (the paper); encoder: latched in "
                               "motion after the sensor's response; sampled: at the "
                               "controller's next read")
-        form.addRow("Latch", self.latch)
-        self.acceleration = UnitField("mm/s²", tooltip="Acceleration of the scan stroke "
-                                      "(encoder and sampled latching); 0: full speed at once")
-        form.addRow("Acceleration", self.acceleration)
-        self.sample_period = UnitField("ms", 1e-3, "How often the controller reads the "
-                                       "sensor (latch = sampled)")
-        form.addRow("Sample period", self.sample_period)
-        self.response = UnitField("ms", 1e-3, "The sensor's response time: an edge is latched "
-                                  "this late, at the scan speed")
-        form.addRow("Sensor response", self.response)
+        self.acceleration = QuantityField("acceleration", 0.0, "Acceleration of the scan "
+                                          "stroke (encoder and sampled latching); 0: full "
+                                          "speed at once", maximum=float("inf"))
+        self.sample_period = QuantityField("time", 0.0, "How often the controller reads the "
+                                           "sensor (latch = sampled)", maximum=float("inf"))
+        self.response = QuantityField("time", 0.0, "The sensor's response time: an edge is "
+                                      "latched this late, at the scan speed",
+                                      maximum=float("inf"))
+        # Each field with the reason beside it when its text is refused (inputs.marked_row).
+        self.reasons, self.labels = {}, {}
+        for label, field in (("Spot diameter", self.diameter), ("Spot width", self.width),
+                             ("Spot height", self.height), ("Threshold ON", self.on),
+                             ("Threshold OFF", self.off), ("Latch", self.latch),
+                             ("Acceleration", self.acceleration),
+                             ("Sample period", self.sample_period),
+                             ("Sensor response", self.response)):
+            form.addRow(label, field if field is self.latch else marked_row(field, self.reasons))
+            self.labels[field] = label
         self.fields = {"SpotDiameter": self.diameter, "SpotWidth": self.width,
                        "SpotHeight": self.height, "ThresholdOn": self.on,
                        "ThresholdOff": self.off, "Acceleration": self.acceleration,
@@ -202,10 +205,7 @@ class SensorDefaultsBox:
         latch = self.latch.findText(stored["Latch"])
         self.latch.setCurrentIndex(max(latch, 0))
         for name, field in self.fields.items():
-            if name.startswith("Spot"):
-                set_length(field, stored[name])
-            else:
-                field.set_value(stored[name])
+            field.set_value(stored[name])
         self._enable()
 
     def shown(self):
@@ -214,22 +214,51 @@ class SensorDefaultsBox:
                   "Latch": self.latch.currentText()}
         for name, field in self.fields.items():
             try:
-                values[name] = length_value(field) if name.startswith("Spot") else field.value()
+                values[name] = field.value()
             except ValueError as exc:
-                raise ValueError(f"{self.box.layout().labelForField(field).text()}: {exc}") \
-                    from None
+                raise ValueError(f"{self.labels[field]}: {exc}") from None
         return values
 
-    def save(self):
-        """Store what the group shows when the sensor defaults it makes are sound; otherwise
-        say why in the report view and keep the stored ones (the dialog is closing)."""
+    def problems(self):
+        """{field: why} for each field whose text is refused, alone or with the others (OFF
+        above ON, a round spot of no size...); the fields are marked with their reasons."""
+        problems = {}
+        values = stored_values()  # a refused field's stored value, to check the others with
+        values.update(SpotShape=SHAPES[self.shape.currentIndex()],
+                      Latch=self.latch.currentText())
+        for name, field in self.fields.items():
+            try:
+                values[name] = field.value()
+            except ValueError as exc:
+                problems[field] = str(exc)
         try:
-            values = self.shown()
             defaults_from(values)
         except ValueError as exc:
-            App.Console.PrintError(f"WaferScan preferences: sensor defaults not changed: "
-                                   f"{exc}\n")
-            return False
-        store(values)
-        return True
+            field = self._field_of(str(exc))
+            if field not in problems:
+                problems[field] = str(exc).partition(": ")[2] \
+                    if str(exc).split(":")[0] in self.fields else str(exc)
+        for field, reason in self.reasons.items():
+            mark(field, reason, problems.get(field))
+        return problems
 
+    def _field_of(self, message):
+        """The field a refusal of ``defaults_from`` is about."""
+        name = message.split(":")[0]
+        if name in self.fields:
+            return self.fields[name]
+        return self.off if message.startswith("threshold OFF") else self.on
+
+    def changed(self):
+        """{parameter name: value} of the fields that differ from what is stored (a field left
+        alone holds exactly what was loaded, so it is not among them)."""
+        stored = stored_values()
+        return {name: value for name, value in self.shown().items() if value != stored[name]}
+
+    def save(self):
+        """Store the fields that changed, when the sensor defaults they make are sound (the page
+        keeps OK from being pressed otherwise); False when refused."""
+        if self.problems():
+            return False
+        store(self.changed())
+        return True

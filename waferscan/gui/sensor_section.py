@@ -10,18 +10,19 @@ from __future__ import annotations
 from PySide import QtGui
 
 from ..core.sensor.motion import LATCHES
-from .inputs import length_input
+from .inputs import QuantityField, normalise
 from .settings_section import SettingsSection, settings_object
 
-# (property, label, kind): "length" fields take a unit (the user's by default), "number"
-# fields a bare number (the thresholds are fractions, the sweep is in degrees).
-# The slit's sizes, the stroke's acceleration (mm/s², 0: full speed at once) and the read period
-# (s, needed by latch = sampled) complete SPEC §10's settings.
+# (property, label, kind): the lengths, the acceleration and the sweep's angle are quantities in
+# the user's unit schema (typed in any unit), the read period a time in s, ms or µs (FreeCAD 0.20
+# has no time unit), the thresholds bare fractions. The slit's sizes, the stroke's acceleration
+# (0: full speed at once) and the read period (needed by latch = sampled) complete SPEC §10's
+# settings.
 FIELDS = (("SpotDiameter", "Spot ⌀", "length"), ("SpotWidth", "Slit width", "length"),
           ("SpotHeight", "Slit height", "length"), ("ThresholdOn", "On at", "number"),
-          ("ThresholdOff", "Off at", "number"), ("Acceleration", "Acc. mm/s²", "number"),
-          ("SamplePeriod", "Sample s", "number"), ("Jab", "Jab", "length"),
-          ("Sweep", "Sweep °", "number"))
+          ("ThresholdOff", "Off at", "number"), ("Acceleration", "Acceleration", "acceleration"),
+          ("SamplePeriod", "Sample period", "time"), ("Jab", "Jab", "length"),
+          ("Sweep", "Sweep", "angle"))
 
 
 def _number(value):
@@ -47,9 +48,11 @@ class SensorSection(SettingsSection):
         for prop, label, kind in FIELDS:
             tip = obj.getDocumentationOfProperty(prop) if obj is not None and \
                 prop in obj.PropertiesList else prop
-            field = length_input(0.0, tip) if kind == "length" else QtGui.QLineEdit()
-            if kind != "length":
+            if kind == "number":
+                field = QtGui.QLineEdit()
                 field.setToolTip(tip)
+            else:
+                field = QuantityField(kind, 0.0, tip, maximum=float("inf"))
             self.fields[prop] = field
             form.addRow(label, field)
         self.latch = QtGui.QComboBox()
@@ -60,23 +63,24 @@ class SensorSection(SettingsSection):
     def fill(self, obj):
         for prop, _, kind in FIELDS:
             value = _number(getattr(obj, prop))
-            if kind == "length":
-                self.fields[prop].set_mm(value)
-            else:
+            if kind == "number":
                 self.fields[prop].setText(f"{value:g}")
+            else:
+                self.fields[prop].set_value(value)
         self.latch.setCurrentIndex(self.latch.findText(str(obj.Latch)))
 
     def values(self):
-        """{property: value} typed in the fields; ValueError naming the field when one is not a
-        number (a length for the length fields)."""
+        """{property: value} typed in the fields (mm, mm/s², degrees, s); ValueError naming the
+        field when one is not a number (a quantity of its kind for the quantity fields)."""
         values = {}
         for prop, label, kind in FIELDS:
             field = self.fields[prop]
             try:
-                values[prop] = field.value_mm() if kind == "length" else float(field.text())
-            except ValueError:
-                raise ValueError(f"{label.rstrip(' °')}: {field.text()!r} is not a "
-                                 f"{'length' if kind == 'length' else 'number'}") from None
+                values[prop] = float(normalise(field.text())) if kind == "number" else \
+                    field.value()
+            except ValueError as exc:
+                why = f"{field.text()!r} is not a number" if kind == "number" else str(exc)
+                raise ValueError(f"{label}: {why}") from None
         values["Latch"] = self.latch.currentText()
         return values
 

@@ -35,6 +35,7 @@ class SettingsSection:
 
     title = tip = apply_tip = undo_name = missing = written = ""
     properties = ()
+    followed = ()  # more properties whose change the fields follow (the recipe's "...Set" boxes)
 
     def __init__(self, doc, check, transaction, applied=None):
         self.doc, self.check, self.transaction, self.applied = doc, check, transaction, applied
@@ -113,7 +114,7 @@ class SettingsSection:
         """The document's ``obj.prop`` changed. One of this section's properties of ScanSettings
         changed by something other than Apply (an Undo or Redo, the property editor): the
         fields show the document's values again, and the message says so."""
-        if self._applying or prop not in self.properties:
+        if self._applying or prop not in self.properties + self.followed:
             return
         holder = settings_object(self.doc)
         if holder is None or holder.Name != obj.Name:
