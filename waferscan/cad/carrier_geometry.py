@@ -142,8 +142,9 @@ def _document_beam(doc):
         placement.multVec(App.Vector(holder.Receiver))
 
 
-def _front(center, beam):
-    """The unit XY direction from ``center`` to the nearest point of the beam's line."""
+def front_towards(center, beam):
+    """The unit XY direction from ``center`` (x, y, ...) to the nearest point of the line of
+    ``beam`` (emitter, receiver: App.Vectors), or None when the beam runs through it."""
     if beam is None:
         return None
     emitter, receiver = beam
@@ -196,7 +197,7 @@ def propose_slots(carrier, beam=None):
         middle = Part.makeCompound(levels[bottom]).BoundBox.Center
         cx, cy = middle.x, middle.y
     seat = (cx, cy, bottom)
-    front = _front(seat, beam if beam is not None else _document_beam(doc))
+    front = front_towards(seat, beam if beam is not None else _document_beam(doc))
     return SlotProposal(count, pitch, seat, front, how)
 
 

@@ -5,8 +5,8 @@ A command does its work as FreeCAD's own do: it runs one line of Python through
 ``Gui.doCommand`` (``record``), so that the Python console shows, and a macro keeps, the call a
 script would make, such as ``waferscan.gui.commands.run_scan(App.getDocument('MyCell'))``. The
 functions those lines call live by subject: ``scanning`` (open_scenario), ``tagging``,
-``playback`` (run_scan) and ``dialogs`` (results, cross-check, calibration, tolerance study,
-MCS link). They are named in this module too, because recorded lines and users' macros
+``playback`` (run_scan), ``frames_panel`` (open_frames_panel, set_frames) and ``dialogs``
+(results, cross-check, calibration, tolerance study, MCS link). They are named in this module too, because recorded lines and users' macros
 name them through it; a user's mistake (a WaferScanError) is reported by ``session.report``."""
 
 from __future__ import annotations
@@ -21,6 +21,8 @@ from ..core.errors import WaferScanError
 # here. ``session`` too: scripts and probes read what the workbench keeps through it.
 from .dialogs import (calibrate_layout, cross_check, open_mcs_panel, open_tolerance_study,
                       show_results_dialogs)
+from . import frames_panel
+from .frames_panel import set_frames
 from .playback import run_scan
 from .scanning import open_scenario
 from .session import report, session
@@ -28,7 +30,8 @@ from .tagging import tag_selection
 
 __all__ = ["open_scenario", "tag_selection", "run_scan", "calibrate_layout", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "session", "record",
-           "COMMANDS", "TAG_COMMANDS", "register"]
+           "open_frames_panel", "set_frames", "COMMANDS", "TAG_COMMANDS",
+           "register"]
 
 
 def record(call):
@@ -46,6 +49,12 @@ def _doc_ref(doc):
 def _objects_ref(objects):
     return "[" + ", ".join(f"{_doc_ref(o.Document)}.getObject({o.Name!r})"
                            for o in objects) + "]"
+
+
+def open_frames_panel(doc):
+    """The "Set up carrier and sensor" panel on ``doc``; its OK runs ``set_frames`` as a
+    recorded line. Returns the panel."""
+    return frames_panel.open_frames_panel(doc, record)
 
 
 class _Command:
@@ -125,6 +134,15 @@ class TagGroup:
 
     def IsActive(self):
         return bool(Gui.Selection.getSelection())
+
+
+class SetFrames(_Command):
+    menu, icon = "Set up carrier and sensor…", "WaferScan_SetFrames.svg"
+    tip = ("Pick the carrier's slot 1 seat and the beam's emitter and receiver in the 3D view, "
+           "and take the slot count and pitch from the carrier's geometry")
+
+    def run(self):
+        record(f"open_frames_panel({_doc_ref(App.ActiveDocument)})")
 
 
 class RunScan(_Command):
@@ -216,6 +234,7 @@ COMMANDS = {
     "WaferScan_NewPaperLayout": NewPaperLayout(),
     "WaferScan_OpenScenario": OpenScenario(),
     "WaferScan_Tag": TagGroup(),
+    "WaferScan_SetFrames": SetFrames(),
     "WaferScan_RunScan": RunScan(),
     "WaferScan_Calibrate": CalibrateCommand(),
     "WaferScan_McsLink": McsLinkCommand(),
