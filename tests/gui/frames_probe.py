@@ -144,6 +144,7 @@ def pick():
     # Slot 1's seat: pick, then click slot 1's wafer on its top face (0.7 mm above its seat).
     panel.points["seat"].pick.click()
     result["seat_hint"] = panel.status.text()
+    result["seat_status_bar"] = Gui.getMainWindow().statusBar().currentMessage()
     click(doc, "W01", "Face2", (-395.0, 10.0, 294.64))
     result["seat_picked"] = texts(panel.points["seat"])
     result["seat_status"] = panel.status.text()
@@ -158,6 +159,12 @@ def pick():
         click(doc, "Sensor", "Face1", point)
         result[f"{key}_picked"] = texts(panel.points[key])
     window_shot("gui-frames-picked.png", dock_width=264)
+    result["status_after_picks"] = panel.status.text()
+    result["status_bar_after_picks"] = Gui.getMainWindow().statusBar().currentMessage()
+    # Every label shows all its lines (a wrapped label squeezed in a task box loses its last).
+    result["clipped_labels"] = [label.text() for label in panel.form.findChildren(QtGui.QLabel)
+                                if label.wordWrap() and label.text() and
+                                label.height() < label.heightForWidth(label.width())]
     ok = [b for b in Gui.getMainWindow().findChildren(QtGui.QPushButton)
           if b.text().replace("&", "") == "OK" and b.isVisible()]
     result["ok_buttons"] = len(ok)

@@ -69,6 +69,7 @@ def test_slot_1s_seat_is_picked_on_slot_1s_wafer(gui):
     result, _ = gui
     assert result["seat_before"] != ["-400 mm", "0 mm", "293.94 mm"]
     assert "Click slot 1's wafer" in result["seat_hint"]
+    assert "its bottom centre is taken" in result["seat_status_bar"]
     assert result["seat_picked"] == ["-400 mm", "0 mm", "293.94 mm"]
     assert "W01's bottom centre" in result["seat_status"]
     assert result["seat_after_stray_click"] == result["seat_picked"]
@@ -80,6 +81,13 @@ def test_the_beams_ends_are_picked_in_the_3d_view(gui):
     result, _ = gui
     assert result["emitter_picked"] == ["-266.6 mm", "-80 mm", "283 mm"]
     assert result["receiver_picked"] == ["-266.6 mm", "80 mm", "283 mm"]
+    assert result["status_after_picks"] == "Receiver picked: (-266.6 mm, 80 mm, 283 mm)."
+    assert "Then click" not in result["status_bar_after_picks"]  # done: the hint is gone
+
+
+def test_the_panel_fits_the_default_combo_view_with_every_line_shown(gui):
+    result, _ = gui
+    assert result["clipped_labels"] == []
 
 
 def test_ok_writes_the_frames_as_one_undo_step_in_each_objects_own_frame(gui):

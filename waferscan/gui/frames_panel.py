@@ -24,10 +24,15 @@ __all__ = ["FramesTaskPanel", "open_frames_panel", "set_frames", "set_frames_cal
 UNDO_NAME = "Set carrier and sensor frames"
 POINTS = {"seat": "Slot 1's seat", "emitter": "Emitter", "receiver": "Receiver"}
 PICK_HINTS = {
-    "seat": "Click slot 1's wafer (its bottom centre is taken) or the top of slot 1's "
-            "support (its height is taken) in the 3D view.",
-    "emitter": "Click the point the beam leaves from in the 3D view.",
-    "receiver": "Click the point the beam arrives at in the 3D view.",
+    "seat": "Click slot 1's wafer, or the top of its support, in the 3D view.",
+    "emitter": "Click where the beam leaves the sensor, in the 3D view.",
+    "receiver": "Click where the beam arrives, in the 3D view.",
+}
+PICK_TIPS = {
+    "seat": "Then click slot 1's wafer (its bottom centre is taken) or the top of slot 1's "
+            "support (its height is taken; X and Y are kept)",
+    "emitter": "Then click the point the beam leaves from in the 3D view",
+    "receiver": "Then click the point the beam arrives at in the 3D view",
 }
 
 
@@ -93,6 +98,12 @@ def set_frames_call(doc, carrier=None, slot_count=None, pitch=None, seat=None, f
     return f"set_frames({', '.join(arguments)})"
 
 
+def _wrapped_label(text=""):
+    label = QtGui.QLabel(text)
+    label.setWordWrap(True)
+    return label
+
+
 class _Picks:
     """A selection observer: a click in the 3D view selects a sub-element with the point
     clicked, which FreeCAD hands to ``addSelection``."""
@@ -113,7 +124,7 @@ class _PointFields:
         header.addWidget(QtGui.QLabel(f"<b>{POINTS[key]}</b>"), 1)
         self.pick = QtGui.QPushButton("Pick")
         self.pick.setCheckable(True)
-        self.pick.setToolTip(PICK_HINTS[key])
+        self.pick.setToolTip(PICK_TIPS[key])
         self.pick.clicked.connect(lambda checked: panel.start_pick(key if checked else None))
         header.addWidget(self.pick)
         layout.addLayout(header)
@@ -159,16 +170,17 @@ class FramesTaskPanel(ClosableTaskPanel):
         self.form.setWindowTitle("Set up carrier and sensor")
         self.form.setWindowIcon(QtGui.QIcon(icon_path("WaferScan_SetFrames.svg")))
         layout = QtGui.QVBoxLayout(self.form)
-        intro = QtGui.QLabel("Points are global, in your units. Pick, then click in the 3D view; "
-                             "OK writes them into each object's own frame.")
-        intro.setWordWrap(True)
+        intro = _wrapped_label("Points are global, in your units. Pick, then click in the 3D "
+                              "view; OK writes them into each object's own frame.")
         layout.addWidget(intro)
         if self.carrier is not None:
             layout.addWidget(self._carrier_box())
         if self.scanner is not None:
             layout.addWidget(self._sensor_box())
-        self.status = QtGui.QLabel("")
-        self.status.setWordWrap(True)
+        # Room for the longest message from the start: a wrapped label that grows later
+        # squeezes the others in FreeCAD's task box, cutting off their last lines.
+        self.status = _wrapped_label()
+        self.status.setMinimumHeight(4 * self.status.fontMetrics().lineSpacing())
         self.alive_while_shown = self.status
         layout.addWidget(self.status)
         layout.addStretch(1)
@@ -184,8 +196,7 @@ class FramesTaskPanel(ClosableTaskPanel):
         box = QtGui.QGroupBox(f"Carrier: {self.carrier.Label}")
         layout = QtGui.QVBoxLayout(box)
         self.proposal = carrier_geometry.propose_slots(self.carrier)
-        self.derived = QtGui.QLabel(_proposal_text(self.proposal))
-        self.derived.setWordWrap(True)
+        self.derived = _wrapped_label(_proposal_text(self.proposal))
         layout.addWidget(self.derived)
         self.use_derived = QtGui.QPushButton("Use derived")
         self.use_derived.setToolTip("Fill in the slot count, pitch and slot 1's seat the "
@@ -250,6 +261,11 @@ class FramesTaskPanel(ClosableTaskPanel):
         for name, point in self.points.items():
             point.pick.setChecked(name == key)
         self.status.setText(PICK_HINTS[key] if key else "")
+        bar = Gui.getMainWindow().statusBar()
+        if key:  # where FreeCAD's own tools say what to click
+            bar.showMessage(f"WaferScan: {PICK_TIPS[key]}", 15000)
+        elif bar.currentMessage().startswith("WaferScan: Then click"):
+            bar.clearMessage()
 
     def picked(self, doc_name, obj_name, sub, point):
         """A click in the 3D view (a selection with its point, global) while picking."""
@@ -260,7 +276,7 @@ class FramesTaskPanel(ClosableTaskPanel):
         fields = self.points[key]
         if key != "seat":
             fields.set(point)
-            self.status.setText(f"{POINTS[key]} picked at {_point_text(point)}.")
+            self.status.setText(f"{POINTS[key]} picked: {_point_text(point)}.")
             return
         root = self.doc.getObject(obj_name)
         path = sub.rsplit(".", 1)[0] + "." if "." in sub else ""
@@ -275,14 +291,13 @@ class FramesTaskPanel(ClosableTaskPanel):
                 center = None
             if center is not None:
                 fields.set(center)
-                self.status.setText(f"Slot 1's seat: {clicked.Label}'s bottom centre, "
-                                    f"{_point_text(center)}.")
+                self.status.setText(f"Slot 1's seat: {clicked.Label}'s bottom centre.")
                 return
         seat = fields.value()
         seat.z = point.z
         fields.set(seat)
-        self.status.setText(f"Slot 1's seat height {format_length(point.z)} from the point "
-                            "picked; X and Y kept.")
+        self.status.setText(f"Slot 1's seat height: {format_length(point.z)}, picked; X and Y "
+                            "kept.")
 
     def values(self):
         """The panel's values as ``set_frames``' keyword arguments (ValueError when a field is
