@@ -100,6 +100,12 @@ def export_cell():
 
 def begin():
     Gui.activateWorkbench("WaferScanWorkbench")
+    # Nothing tagged yet: the command says what to do first.
+    empty = App.newDocument("Empty")
+    Gui.runCommand("WaferScan_SetFrames")
+    result["untagged_messages"] = message_texts()
+    result["untagged_panel"] = bool(Gui.Control.activeDialog())
+    App.closeDocument(empty.Name)
     export_cell()
     import ImportGui
     doc = App.newDocument("Cell")
@@ -168,6 +174,14 @@ def pick():
     ok = [b for b in Gui.getMainWindow().findChildren(QtGui.QPushButton)
           if b.text().replace("&", "") == "OK" and b.isVisible()]
     result["ok_buttons"] = len(ok)
+    # A mistake first: a pitch that is not a length. OK says so and changes nothing.
+    panel.pitch.setText("ten")
+    ok[0].click()
+    Gui.updateGui()
+    result["bad_pitch_messages"] = message_texts()
+    result["bad_pitch_open"] = panel.is_open()
+    result["bad_pitch_undo"] = list(doc.UndoNames)
+    panel.pitch.setText("10 mm")
     ok[0].click()
     later(after_ok, 300)
 

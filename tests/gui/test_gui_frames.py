@@ -50,6 +50,23 @@ def gui(run_gui_probe, tmp_path_factory):
                          WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS)), folder
 
 
+def test_with_nothing_tagged_the_command_says_what_to_tag(gui):
+    result, _ = gui
+    assert len(result["untagged_messages"]) == 1
+    assert "tag the carrier (Tag as carrier) and the sensor (Tag as scanner) first" in \
+        result["untagged_messages"][0]
+    assert result["untagged_panel"] is False
+
+
+def test_a_pitch_that_is_not_a_length_is_said_and_changes_nothing(gui):
+    result, _ = gui
+    assert len(result["bad_pitch_messages"]) == 1
+    assert result["bad_pitch_messages"][0].startswith("Pitch: 'ten' is not a length"), \
+        result["bad_pitch_messages"]
+    assert result["bad_pitch_open"] is True
+    assert result["bad_pitch_undo"] == result["undo_before"]
+
+
 def test_the_carrier_is_imported_in_a_turned_frame(gui):
     result, _ = gui
     assert "Foup" in result["imported_labels"] and "Sensor" in result["imported_labels"]

@@ -304,10 +304,13 @@ class FramesTaskPanel(ClosableTaskPanel):
         not a length)."""
         found = {}
         if self.carrier is not None:
-            seat = self.points["seat"].value()
+            try:
+                pitch = self.pitch.value_mm()
+            except ValueError as exc:
+                raise ValueError(f"Pitch: {exc}") from None
             found.update(carrier=self.carrier, slot_count=self.slot_count.value(),
-                         pitch=App.Units.Quantity(self.pitch.value_mm(), App.Units.Length),
-                         seat=seat, front=None)
+                         pitch=App.Units.Quantity(pitch, App.Units.Length),
+                         seat=self.points["seat"].value(), front=None)
         if self.scanner is not None:
             found.update(scanner=self.scanner, emitter=self.points["emitter"].value(),
                          receiver=self.points["receiver"].value())
