@@ -33,7 +33,8 @@ def test_screenshot_saved(gui_result):
     assert SCREENSHOT.stat().st_size > 0
 
 
-COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Run scan", "Calibrate",
+COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Set up carrier and sensor…",
+            "Run scan", "Calibrate",
             "MCS link…", "Results table", "Slot code", "Cross-check with CAD",
             "Tolerance study…", "Preferences…"]
 

@@ -5,8 +5,8 @@ A command does its work as FreeCAD's own do: it runs one line of Python through
 ``Gui.doCommand`` (``record``), so that the Python console shows, and a macro keeps, the call a
 script would make, such as ``waferscan.gui.commands.run_scan(App.getDocument('MyCell'))``. The
 functions those lines call live by subject: ``scanning`` (open_scenario), ``tagging``,
-``playback`` (run_scan) and ``dialogs`` (results, cross-check, calibration, tolerance study,
-MCS link). They are named in this module too, because recorded lines and users' macros
+``playback`` (run_scan), ``frames_panel`` (open_frames_panel, set_frames) and ``dialogs``
+(results, cross-check, calibration, tolerance study, MCS link). They are named in this module too, because recorded lines and users' macros
 name them through it; a user's mistake (a WaferScanError) is reported by ``session.report``."""
 
 from __future__ import annotations
@@ -21,6 +21,8 @@ from ..core.errors import WaferScanError
 # here. ``session`` too: scripts and probes read what the workbench keeps through it.
 from .dialogs import (calibrate_layout, cross_check, open_mcs_panel, open_tolerance_study,
                       show_results_dialogs)
+from . import frames_panel
+from .frames_panel import set_frames
 from .playback import replay_scan, run_scan
 from .results_view import export_results_csv
 from .scanning import open_scenario
@@ -31,13 +33,19 @@ from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_from_solids",
            "run_scan", "replay_scan", "export_results_csv", "calibrate_layout", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
-           "stop_tolerance_study", "session", "record",
+           "stop_tolerance_study", "open_frames_panel", "set_frames", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
 
 
 def _objects_ref(objects):
     return "[" + ", ".join(f"{doc_ref(o.Document)}.getObject({o.Name!r})"
                            for o in objects) + "]"
+
+
+def open_frames_panel(doc):
+    """The "Set up carrier and sensor" panel on ``doc``; its OK runs ``set_frames`` as a
+    recorded line. Returns the panel."""
+    return frames_panel.open_frames_panel(doc, record)
 
 
 class _Command:
@@ -144,6 +152,15 @@ class TagGroup:
         return bool(Gui.Selection.getSelection())
 
 
+class SetFrames(_Command):
+    menu, icon = "Set up carrier and sensor…", "WaferScan_SetFrames.svg"
+    tip = ("Pick the carrier's slot 1 seat and the beam's emitter and receiver in the 3D view, "
+           "and take the slot count and pitch from the carrier's geometry")
+
+    def run(self):
+        record(f"open_frames_panel({doc_ref(App.ActiveDocument)})")
+
+
 class RunScan(_Command):
     menu, icon = "Run scan", "WaferScan_RunScan.svg"
     tip = ("Scan the active layout, animated (play, pause, stop, speed in the task panel); "
@@ -240,6 +257,7 @@ COMMANDS = {
     "WaferScan_NewPaperLayout": NewPaperLayout(),
     "WaferScan_OpenScenario": OpenScenario(),
     "WaferScan_Tag": TagGroup(),
+    "WaferScan_SetFrames": SetFrames(),
     "WaferScan_RunScan": RunScan(),
     "WaferScan_Calibrate": CalibrateCommand(),
     "WaferScan_McsLink": McsLinkCommand(),
