@@ -19,14 +19,15 @@ from ..addon import icon_path, paper_scenario
 from ..core.errors import WaferScanError
 # What recorded lines call, as waferscan.gui.commands.<name>: macros replay these names from
 # here. ``session`` too: scripts and probes read what the workbench keeps through it.
-from .dialogs import (calibrate_layout, cross_check, open_mcs_panel, open_tolerance_study,
-                      show_results_dialogs)
+from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_mcs_panel,
+                      open_tolerance_study, save_calibration_recipe, show_results_dialogs)
 from .playback import run_scan
 from .scanning import open_scenario
 from .session import report, session
 from .tagging import tag_selection
 
-__all__ = ["open_scenario", "tag_selection", "run_scan", "calibrate_layout", "open_mcs_panel",
+__all__ = ["open_scenario", "tag_selection", "run_scan", "calibrate_layout",
+           "apply_calibration", "save_calibration_recipe", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
 
