@@ -218,4 +218,4 @@ def open_mcs_panel(doc, folder=None):
     from .mcs_panel import McsTaskPanel  # the link's modules load when first opened
 
     check_no_other_task_panel()
-    return show_task_panel(McsTaskPanel(doc, folder))
+    return show_task_panel(McsTaskPanel(doc, folder, show_results_dialogs))
