@@ -110,6 +110,22 @@ def apply_it():
     result["values_replayed"] = document_values(doc)
     result["undo_after_replay"] = list(doc.UndoNames)
     dialog.close()
+    # A calibration shown, then the layout edited: its buttons say so and write nothing.
+    from waferscan.gui.session import session
+
+    Gui.runCommand("WaferScan_Calibrate")
+    Gui.updateGui()
+    stale = session.dialogs[0]
+    settings = next(o for o in doc.Objects if "ThicknessCorrection" in o.PropertiesList)
+    doc.openTransaction("Edit")
+    settings.ZStep = 0.02
+    doc.commitTransaction()
+    values = document_values(doc)
+    stale.findChild(QtGui.QPushButton, "apply").click()
+    Gui.updateGui()
+    result["stale_messages"] = message_texts()
+    result["stale_unchanged"] = [document_values(doc) == values, doc.UndoNames[0]]
+    stale.close()
     later(failure)
 
 

@@ -120,3 +120,9 @@ def test_the_recorded_lines_on_a_layout_that_cannot_be_calibrated_say_so(gui):
     assert re.match(r"Apply calibration of paper\d*: nothing done: no-top-wafer: ", apply)
     assert re.match(r"Save recipe of paper\d*: nothing done: no-top-wafer: ", save)
     assert gui["failed_undo_unchanged"] and not gui["failed_file"]
+
+
+def test_a_calibration_shown_is_not_applied_to_a_layout_edited_since(gui):
+    assert gui["stale_messages"] == ["Apply to document: drifted changed since this "
+                                     "calibration: run Calibrate again"]
+    assert gui["stale_unchanged"] == [True, "Edit"]
