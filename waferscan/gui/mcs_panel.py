@@ -417,10 +417,16 @@ class McsTaskPanel(ClosableTaskPanel):
         previous = session.animation
         if previous is not None:
             previous.stop()
-        self.animation = ScanAnimation(self.doc, result, duration_s=preferences.playback_seconds(),
-                                       scene=scene)
-        session.animation = self.animation
-        self.animation.play()
+        animation = ScanAnimation(self.doc, result, duration_s=preferences.playback_seconds(),
+                                  scene=scene)
+        # FreeCAD quit while it plays (QApplication.quit, as a script may): ended while the 3D
+        # views and their nodes are still there; quitting deletes them without closing the
+        # document first (FREECAD-NOTES: touching them after crashes FreeCAD).
+        quitting = QtGui.QApplication.instance().aboutToQuit
+        quitting.connect(animation.stop)
+        animation.finished.connect(lambda: _disconnect(quitting, animation.stop))
+        self.animation = session.animation = animation
+        animation.play()
 
     def stop_animation(self):
         if self.animation is not None and not self.animation.ended:
@@ -477,3 +483,10 @@ class McsTaskPanel(ClosableTaskPanel):
     def shut_down(self):
         self.stop()
         self.stop_animation()
+
+
+def _disconnect(signal, slot):
+    try:
+        signal.disconnect(slot)
+    except (RuntimeError, TypeError):  # not connected (any more)
+        pass
