@@ -45,6 +45,17 @@ def begin():
     result["good_saved"] = panel.save_parameters()
     result["parameters_file"] = (FOLDER / "parameters.txt").read_text(encoding="utf-8")
     # File-system events only: the first commands.
+    # How long showing an answered scan holds the GUI thread (between two polls): measured,
+    # for the record.
+    import time
+    shown_ms = result.setdefault("show_ms", [])
+    show = getattr(panel, "show_scan", None)
+    if show is not None:
+        def timed(*args):
+            started = time.perf_counter()
+            show(*args)
+            shown_ms.append(round(1000 * (time.perf_counter() - started), 1))
+        panel.show_scan = timed
     state["placements"] = placements(App.ActiveDocument)
     state["undo"] = list(App.ActiveDocument.UndoNames)
     result["started_events"] = panel.start(events=True, poll_ms=0)
