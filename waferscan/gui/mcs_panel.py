@@ -6,8 +6,9 @@ written exactly as ``waferscan watch`` writes it.
 Once a scan is answered (an SCF, an SCS, a CAL's check scan), it is shown as Run scan shows
 one: the results table and the slot code, and the arm animated through the scan in the 3D view
 only (the document is not moved, so the next command reads it as the headless link does); with
-"Store results in the document" checked, the results are also kept in the document as Run scan
-keeps them (one undo step). The answer is written first: nothing shown holds it up."""
+"Store in document" checked, the results are also kept in the document as Run scan keeps them
+(one undo step). The answer is written first: nothing shown holds it up. Of several answers
+given in one poll, the last scan is shown (and stored): each would replace the one before."""
 
 from __future__ import annotations
 
