@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    artifact, finish, later, message_texts, result, start, wait_for, window_shot)
+    artifact, console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -206,11 +206,7 @@ def make_carrier():
     doc.recompute()
     message_texts()
     state["carrier"] = carrier
-    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
-                if w.objectName() == "Python console"]
-    result["console_calls"] = [line.strip().lstrip(">").strip()
-                               for line in consoles[0].toPlainText().splitlines()
-                               if "waferscan.gui.commands." in line] if consoles else None
+    result["console_calls"] = console_calls()
     # The first Run scan: 25 slots by default.
     select([])
     Gui.runCommand("WaferScan_RunScan")

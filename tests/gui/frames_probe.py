@@ -11,7 +11,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, later, message_texts, result, start, wait_for, window_shot)
+    console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -220,11 +220,7 @@ def after_ok():
     result["undo_after"] = list(doc.UndoNames)
     result["own_frame"] = document_values(doc)
     result["global"] = global_values(doc)
-    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
-                if w.objectName() == "Python console"]
-    calls = [line.strip().lstrip(">").strip() for line in consoles[0].toPlainText().splitlines()
-             if "waferscan.gui.commands." in line]
-    result["console_calls"] = calls
+    result["console_calls"] = calls = console_calls()
     # Undo: the document as it was; the recorded line replayed: as OK left it, with no question.
     doc.undo()
     result["own_frame_undone"] = document_values(doc)

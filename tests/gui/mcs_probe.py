@@ -45,15 +45,58 @@ def begin():
     result["good_saved"] = panel.save_parameters()
     result["parameters_file"] = (FOLDER / "parameters.txt").read_text(encoding="utf-8")
     # File-system events only: the first commands.
+    # How long showing an answered scan holds the GUI thread (between two polls): measured,
+    # for the record.
+    import time
+    shown_ms = result.setdefault("show_ms", [])
+    show = getattr(panel, "show_scan", None)
+    if show is not None:
+        def timed(*args):
+            started = time.perf_counter()
+            show(*args)
+            shown_ms.append(round(1000 * (time.perf_counter() - started), 1))
+        panel.show_scan = timed
+    state["placements"] = placements(App.ActiveDocument)
+    state["undo"] = list(App.ActiveDocument.UndoNames)
     result["started_events"] = panel.start(events=True, poll_ms=0)
     result["state_events"] = panel.state.text()
     (FOLDER / "commands.txt").write_text("1 SCF\n2 SCS\n", encoding="utf-8")
     wait_for("two answers on file-system events", lambda: len(panel.log_rows()) >= 2, polling)
 
 
+def shown_scan(doc):
+    """What a user sees of the last scan answered: the results dialogs, the animation, the
+    document (stored results, undo steps, the scanner's placement)."""
+    from waferscan.gui.session import session
+
+    windows = session.results_windows.get(doc.Name, {})
+    table, code = windows.get("table"), windows.get("code")
+    animation = getattr(state["panel"], "animation", None)
+    return {"code": code.code_label.text() if code is not None else None,
+            "table": table.rows() if table is not None else None,
+            "animation": None if animation is None else
+            {"frames": animation.frames, "ended": animation.ended,
+             "in_view": animation.pose is not None, "scan_z": [animation.scan.start_z,
+                                                               animation.scan.final_z],
+             "mode": animation.scan.mode},
+            "stored": [o.Name for o in doc.Objects if o.Name == "ScanResults"],
+            "undo": list(doc.UndoNames)}
+
+
+def placements(doc):
+    return [[o.Name, list(o.Placement.Base), list(o.Placement.Rotation.Q)]
+            for o in doc.Objects if hasattr(o, "Placement")]
+
+
 def polling():
     panel = state["panel"]
     result["rows_events"] = panel.log_rows()
+    doc = App.ActiveDocument
+    store = getattr(panel, "store", None)  # the checkbox (None: a panel without one)
+    result["store_default"] = None if store is None else store.isChecked()
+    result["shown_events"] = shown_scan(doc)
+    result["placements_unmoved"] = placements(doc) == state["placements"]
+    window_shot("gui-mcs-scan.png")
     # Polling only: an unknown command and a scan with parameters that no longer make sense.
     result["started_polling"] = panel.start(events=False, poll_ms=100)
     result["state_polling"] = panel.state.text()
@@ -101,6 +144,46 @@ def after_stop():
     second.mkdir()
     panel.set_folder(str(second))
     result["watching_second"] = panel.start()
+    # Store results in the document: the next scan is kept as Run scan keeps it.
+    state["panel"] = panel
+    if getattr(panel, "store", None) is not None:
+        panel.store.setChecked(True)
+    (second / "commands.txt").write_text("1 SCF\n", encoding="utf-8")
+    wait_for("the stored scan's answer", lambda: len(panel.log_rows()) >= 1,
+             lambda: stored(panel, second))
+
+
+def stored(panel, second):
+    from waferscan.gui.session import session
+
+    doc = App.ActiveDocument
+    shown = shown_scan(doc)
+    sheet = doc.getObject("ScanResults")
+    shown["sheet_code"] = sheet.get("code") if sheet is not None else None
+    shown["sheet_rows"] = [[str(sheet.getContents(f"{c}{r}")) for c in "ABCDEFG"]
+                           for r in (2, 3)] if sheet is not None else None
+    result["shown_stored"] = shown
+    result["stored_answer"] = (second / "results.txt").read_text(encoding="utf-8")
+    code = session.results_windows.get(doc.Name, {}).get("code")
+    if code is not None:
+        code.grab().save(artifact("gui-mcs-slot-code.png"))
+    animation = getattr(panel, "animation", None)
+    if animation is None:
+        third_folder(panel)
+        return
+    # The arm on its way up, as the MCS's scan moved it.
+    def half_way():
+        result["moving"] = {"z": animation.z, "ended": animation.ended,
+                            "placements_unmoved": placements(doc) == state["placements"]}
+        window_shot("gui-mcs-scan-moving.png")
+        third_folder(panel)
+
+    wait_for("the arm half-way", lambda: animation.ended or animation.z > 400.0, half_way)
+
+
+def third_folder(panel):
+    from waferscan.gui.session import session
+
     # A folder typed into the field: watching stops, that folder's parameters show.
     third = FOLDER / "third"
     third.mkdir()

@@ -9,7 +9,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, later, message_texts, result, start, wait_for, window_shot)
+    console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -276,11 +276,7 @@ def link_done():
     doc = state["doc"]
     result["link_code"] = last_result(doc).code
     # The Python console shows the calls the commands made, as a script would make them.
-    consoles = [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit)
-                if w.objectName() == "Python console"]
-    result["console_calls"] = [line.strip().lstrip(">").strip()
-                               for line in consoles[0].toPlainText().splitlines()
-                               if "waferscan.gui.commands." in line] if consoles else None
+    result["console_calls"] = console_calls()
     result["link_after_look"] = look(doc, session.task_panel) + [
         tuple(sensor_view(doc).ShapeColor) == state["sensor_colour"]]
     doc.saveAs(os.path.join(FOLDER, "link-cell.FCStd"))

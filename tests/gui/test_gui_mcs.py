@@ -1,6 +1,8 @@
 """The MCS link task panel in a real FreeCAD GUI, driven through the files as an MCS drives it:
 parameters edited with validation, commands.txt followed on file-system events and by polling,
-and results.txt and the history written exactly as the headless watcher writes them."""
+and results.txt and the history written exactly as the headless watcher writes them; each scan
+answered shown as Run scan shows one (results table, slot code, the arm animated in the view
+only) and, on request, stored in the document."""
 
 import os
 import re
@@ -104,3 +106,47 @@ def test_watching_states(folders):
     assert "z_step = 0.05" in probe["editor_after_folder_edit"]  # no file there: the layout's
     assert probe["watching_before_scan"] is True and probe["watching_after_scan"] is False
     assert (ARTIFACTS / "gui-mcs-panel.png").stat().st_size > 1000
+
+
+def _table(answer):
+    """results.txt's table rows (slot, slot_z, wafer, in, out, diff, state) as text."""
+    lines = answer.split("\n\n", 1)[1].strip().splitlines()[1:]
+    return [line.split("\t")[:7] for line in lines]
+
+
+def test_an_answered_scan_is_shown_as_run_scan_shows_it(folders):
+    probe, gui, _ = folders
+    shown = probe["shown_events"]
+    answer = (gui / "history" / "results-00000002.txt").read_text(encoding="utf-8")
+    assert shown["code"] == "1101221001220001010000010"  # seq 2, the slow scan answered last
+    rows = _table(answer)
+    assert len(shown["table"]) == len(rows) == 25
+    assert [row[0] for row in shown["table"]] == [row[0] for row in rows]
+    assert [row[-1] for row in shown["table"]] == [row[6] for row in rows]
+    animation = shown["animation"]
+    # the scan the MCS asked for (SCS at parameters.txt's 0.01 mm), in the 3D view only
+    assert animation["mode"] == "slow" and animation["in_view"] is True
+    assert animation["frames"] > 1
+    assert probe["placements_unmoved"] is True
+    # not stored: the document has no results sheet and no new undo step
+    assert probe["store_default"] is False
+    assert shown["stored"] == [] and "WaferScan results" not in shown["undo"]
+    assert (ARTIFACTS / "gui-mcs-scan.png").stat().st_size > 1000
+
+
+def test_store_results_keeps_the_scan_in_the_document_as_run_scan_does(folders):
+    probe, _, _ = folders
+    shown = probe["shown_stored"]
+    answer = probe["stored_answer"]
+    code = re.search(r"^code = (\S+)$", answer, re.MULTILINE).group(1)
+    assert shown["stored"] == ["ScanResults"] and shown["sheet_code"] == code == shown["code"]
+    assert shown["undo"][0] == "WaferScan results"
+    # the sheet holds the rows the results table shows (its numbers as numbers)
+    for stored, row in zip(shown["sheet_rows"], shown["table"][:2]):
+        assert [stored[0], stored[2].lstrip("'"), stored[6].lstrip("'")] == \
+            [row[0], row[2], row[6]]
+        assert [float(stored[c]) for c in (1, 3, 4, 5)] == [float(row[c]) for c in (1, 3, 4, 5)]
+    assert shown["table"][0][3] == _table(answer)[0][3]  # the answer's IN of slot 1
+    # the arm went up with the scan in the view, the document's placements untouched
+    assert probe["moving"]["z"] > 400.0 and probe["moving"]["ended"] is False
+    assert probe["moving"]["placements_unmoved"] is True

@@ -56,3 +56,52 @@ def calibrate_input(path, parameters=None, engine="analytic"):
 
     with opened_layout(path) as doc:
         return calibrate_document(doc, parameters, engine, source=path)
+
+
+def apply_calibration(doc, calibration, scene=None):
+    """Write a calibration's recipe into the document it was made of (no transaction: the GUI
+    makes it one undo step): the scanned carrier's taught slot-1 seat (its ``SlotOrigin``,
+    moved along the global Z so that the seat lands at the calibrated Z) and ``Pitch``, and on
+    ScanSettings the scan range (``StartZ``, ``FinalZ``) and the recipe (the windows, the rule
+    set, ``ThicknessCorrection``). A document without ScanSettings gets one, from the
+    calibrated layout. The wafers, the scanner and the robot are left where they are: they are
+    what the sensor measured. Returns the objects written, by role."""
+    import FreeCAD as App
+
+    from . import features, recipe_properties, roles
+    from .reader import carrier_from
+    from .sensor_properties import add_sensor_properties
+
+    scene = scene or DocumentScene.of(doc)
+    after = calibration.after
+    carrier = after.scanned_carrier
+    instance = next((i for i in scene.carriers if carrier_from(i).name == carrier.name), None)
+    if instance is None:
+        raise InputError(doc.FileName or doc.Label, None,
+                         f"the carrier {carrier.name} is no longer in the document")
+    holder = roles.role_holder(instance.obj)
+    now = carrier_from(instance).first_slot_z
+    # The seat is the global Z of (the instance's placement × SlotOrigin): a global move by dz
+    # is the same move in the holder's own frame, turned back by the instance's rotation.
+    rise = instance.placement().Rotation.inverted().multVec(
+        App.Vector(0.0, 0.0, carrier.first_slot_z - now))
+    origin = App.Placement(holder.SlotOrigin)
+    origin.Base = origin.Base + rise
+    holder.SlotOrigin = origin
+    holder.Pitch = carrier.pitch
+    if scene.settings:
+        settings = roles.role_holder(scene.settings[0].obj)
+        settings.StartZ = after.scan.start_z
+        settings.FinalZ = after.scan.final_z
+        if all(prop in settings.PropertiesList
+               for prop, _, _, _ in recipe_properties.RECIPE_PROPERTIES):
+            recipe_properties.set_values(settings, after.mapping)
+        else:
+            recipe_properties.add_to(settings, after.mapping)
+    else:
+        several = len(scene.carriers) > 1
+        settings = features.make_settings(doc, after.scan, after.mapping,
+                                          carrier.name if several else None)
+        add_sensor_properties(settings, after)
+    doc.recompute()
+    return {"Carrier": holder, "ScanSettings": settings}

@@ -19,10 +19,9 @@ from ..addon import icon_path, paper_scenario
 from ..core.errors import WaferScanError
 # What recorded lines call, as waferscan.gui.commands.<name>: macros replay these names from
 # here. ``session`` too: scripts and probes read what the workbench keeps through it.
-from .dialogs import (calibrate_layout, cross_check, open_mcs_panel, open_tolerance_study,
-                      show_results_dialogs)
-from . import frames_panel
-from .frames_panel import set_frames
+from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_mcs_panel,
+                      open_tolerance_study, save_calibration_recipe, show_results_dialogs)
+from .frames_panel import open_frames_panel, set_frames
 from .playback import replay_scan, run_scan
 from .results_view import export_results_csv
 from .scanning import open_scenario
@@ -31,7 +30,8 @@ from .tagging import make_carrier_from_solids, tag_selection, untag_selection
 from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 
 __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_from_solids",
-           "run_scan", "replay_scan", "export_results_csv", "calibrate_layout", "open_mcs_panel",
+           "run_scan", "replay_scan", "export_results_csv", "calibrate_layout",
+           "apply_calibration", "save_calibration_recipe", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
            "stop_tolerance_study", "open_frames_panel", "set_frames", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
@@ -40,12 +40,6 @@ __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_fr
 def _objects_ref(objects):
     return "[" + ", ".join(f"{doc_ref(o.Document)}.getObject({o.Name!r})"
                            for o in objects) + "]"
-
-
-def open_frames_panel(doc):
-    """The "Set up carrier and sensor" panel on ``doc``; its OK runs ``set_frames`` as a
-    recorded line. Returns the panel."""
-    return frames_panel.open_frames_panel(doc, record)
 
 
 class _Command:

@@ -9,12 +9,14 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
+from ..core.errors import InputError, WaferScanError
 from .qt import alive
 from .scanning import result_now
-from .session import check_no_other_task_panel, report, session, show_task_panel
+from .session import check_no_other_task_panel, report, session, show_task_panel, transaction
 
 __all__ = ["show_results_dialogs", "fit_screen", "cross_check", "calibrate_layout",
-           "open_tolerance_study", "open_mcs_panel"]
+           "apply_calibration", "save_calibration_recipe", "open_tolerance_study",
+           "open_mcs_panel"]
 
 DIALOG_TITLES = {"table": "WaferScan results", "code": "WaferScan slot code"}
 
@@ -125,9 +127,75 @@ def calibrate_layout(doc):
     App.Console.PrintMessage(f"WaferScan calibration of {doc.Label}:\n"
                              f"{format_calibration(calibration)}\n")
     dialog = calibration_dialog(calibration, f"WaferScan calibration: {doc.Label}",
-                                Gui.getMainWindow())
+                                Gui.getMainWindow(), doc)
     dialog.show()
     session.dialogs = [dialog]
+    return calibration
+
+
+def _calibrated(doc, what):
+    """The document's calibration as ``calibrate_layout`` makes it, or None when it cannot be
+    made: the failure (a user's: CalibrationError, InputError) is reported in its own words,
+    ``what`` naming the action."""
+    from ..cad.document_calibration import calibrate_document
+
+    QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+    try:
+        return calibrate_document(doc)
+    except WaferScanError as exc:
+        report(f"{what} of {doc.Label}: nothing done: {exc}", error=True)
+        return None
+    finally:
+        QtGui.QApplication.restoreOverrideCursor()
+
+
+def apply_calibration(doc):
+    """SPEC §11, "Apply to document": calibrate the document as it is now and write the
+    calibrated recipe into it, in one undo step named "Apply calibration": the scanned
+    carrier's taught slot-1 seat and pitch, the scan range and the recipe's keys on
+    ScanSettings. The wafers stay where they are. Returns the Calibration, or None when the
+    document cannot be calibrated (reported, the document left as it is)."""
+    from ..cad.document_calibration import apply_calibration as write_calibration
+    from ..core.scan.calibration import shown_value
+
+    calibration = _calibrated(doc, "Apply calibration")
+    if calibration is None:
+        return None
+    try:
+        with transaction(doc, "Apply calibration"):
+            write_calibration(doc, calibration)
+    except InputError as exc:  # the carrier deleted since it was read: nothing written
+        report(f"Apply calibration of {doc.Label}: nothing done: {exc}", error=True)
+        return None
+    changed = [f"{key} {shown_value(key, old)} → {shown_value(key, new)}"
+               for key, old, new in calibration.rows() if shown_value(key, old) !=
+               shown_value(key, new)]
+    App.Console.PrintMessage(f"WaferScan: applied the calibration to {doc.Label}: "
+                             f"{', '.join(changed) or 'nothing changed'}\n")
+    return calibration
+
+
+def save_calibration_recipe(doc, path):
+    """SPEC §11, "Save recipe…": calibrate the document as it is now and write the calibrated
+    recipe to ``path`` as a whole parameters.txt, atomically: byte for byte what
+    ``waferscan calibrate LAYOUT --out FILE`` writes. Returns the Calibration, or None (the
+    failure reported, nothing written)."""
+    from ..core.files.mcs import format_parameters
+    from ..core.files.text_files import atomic_write_text, check_output_path
+
+    calibration = _calibrated(doc, "Save recipe")
+    if calibration is None:
+        return None
+    try:
+        check_output_path(path, "the recipe")
+        try:
+            atomic_write_text(path, format_parameters(calibration.after))
+        except OSError as exc:
+            raise InputError(path, None, f"cannot write: {exc.strerror or exc}") from None
+    except InputError as exc:
+        report(f"Save recipe of {doc.Label}: nothing written: {exc}", error=True)
+        return None
+    App.Console.PrintMessage(f"WaferScan: calibrated recipe of {doc.Label} written to {path}\n")
     return calibration
 
 
@@ -146,4 +214,4 @@ def open_mcs_panel(doc, folder=None):
     from .mcs_panel import McsTaskPanel  # the link's modules load when first opened
 
     check_no_other_task_panel()
-    return show_task_panel(McsTaskPanel(doc, folder))
+    return show_task_panel(McsTaskPanel(doc, folder, show_results_dialogs))

@@ -16,7 +16,8 @@ from ..cad.reader import DocumentScene
 from ..core.errors import InputError, WaferScanError
 from .inputs import format_length, length_input
 from .qt import ClosableTaskPanel
-from .session import check_no_other_task_panel, report, show_task_panel, transaction
+from .session import (check_no_other_task_panel, doc_ref, record, report, show_task_panel,
+                      transaction)
 
 __all__ = ["FramesTaskPanel", "open_frames_panel", "set_frames", "set_frames_call",
            "UNDO_NAME"]
@@ -64,15 +65,11 @@ def set_frames(doc, carrier=None, slot_count=None, pitch=None, seat=None, front=
     doc.recompute()
 
 
-def open_frames_panel(doc, record):
-    """The "Set up carrier and sensor" panel on ``doc``'s carrier and scanner; its OK hands
-    ``record`` the line of Python that sets them (``commands.record``). Returns the panel."""
+def open_frames_panel(doc):
+    """The "Set up carrier and sensor" panel on ``doc``'s carrier and scanner; its OK records
+    the line of Python that sets them (``set_frames``). Returns the panel."""
     check_no_other_task_panel()
-    return show_task_panel(FramesTaskPanel(doc, record))
-
-
-def _doc_ref(doc):
-    return f"App.getDocument({doc.Name!r})"
+    return show_task_panel(FramesTaskPanel(doc))
 
 
 def _vector_ref(v):
@@ -83,7 +80,7 @@ def set_frames_call(doc, carrier=None, slot_count=None, pitch=None, seat=None, f
                     scanner=None, emitter=None, receiver=None):
     """The recorded line of ``set_frames`` (the "Set up carrier and sensor" panel's OK): the
     pitch as a quantity in mm, points as App.Vectors in mm, global."""
-    ref = _doc_ref(doc)
+    ref = doc_ref(doc)
     arguments = [ref]
     if carrier is not None:
         mm = float(pitch.getValueAs("mm")) if hasattr(pitch, "getValueAs") else float(pitch)
@@ -156,12 +153,12 @@ class FramesTaskPanel(ClosableTaskPanel):
     """Slots and beam, global, picked or typed; the derived slots shown to accept; OK or
     Cancel."""
 
-    def __init__(self, doc, record):
+    def __init__(self, doc):
         scene = DocumentScene.of(doc)
         if not scene.carriers and not scene.scanners:
             raise InputError(doc.Label, None, "tag the carrier (Tag as carrier) and the sensor "
                              "(Tag as scanner) first")
-        self.doc, self.record = doc, record
+        self.doc = doc
         self.carrier = _chosen_carrier(doc, scene)
         self.scanner = scene.scanners[0].obj if scene.scanners else None
         self.picking = None
@@ -326,7 +323,7 @@ class FramesTaskPanel(ClosableTaskPanel):
             report(exc, error=True)
             return False
         try:
-            self.record(set_frames_call(self.doc, **values))
+            record(set_frames_call(self.doc, **values))
         except WaferScanError as exc:
             report(exc, error=True)
             return False

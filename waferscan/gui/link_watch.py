@@ -18,6 +18,8 @@ from ..core.files.mcs_link import McsLink
 
 __all__ = ["LinkWatch"]
 
+KEPT_SCANS = 16  # results carried out whose answers are not written yet, kept at most
+
 
 class LinkWatch:
     """The link on ``folder`` scanning ``doc``, and ``poll_now`` called when it is time to poll:
@@ -30,10 +32,12 @@ class LinkWatch:
         self.watcher = None
         self.timer = None
         # The link's document scanner: it follows the document's changes. Used as `waferscan
-        # watch` uses it, with nothing around it: every answer, failures included, is then
-        # written as the watcher writes it (issue 27: a CAL that failed was answered "cannot
-        # scan the document: CalibrationError: ..." here).
-        self.scanner = document_scanner(doc, folder)
+        # watch` uses it: every answer, failures included, is then written as the watcher
+        # writes it (issue 27: a CAL that failed was answered "cannot scan the document:
+        # CalibrationError: ..." here). Only what it returns is kept on the way (``scanned``),
+        # for the panel to show; what it raises passes untouched.
+        self.scans = {}  # seq -> the ScanResult its answer reports, until the panel takes it
+        self.scanner = self._keeping(document_scanner(doc, folder))
         try:
             self.link = McsLink(folder, self.scanner,
                                 log=lambda text: App.Console.PrintLog(f"WaferScan MCS: {text}\n"))
@@ -53,6 +57,25 @@ class LinkWatch:
             self.timer.timeout.connect(poll_now)
             self.timer.start(int(poll_ms))
             self.how.append(f"polling every {poll_ms / 1000:g} s")
+
+    def _keeping(self, scanner):
+        """``scanner`` with each result it returns kept in ``scans`` under its command's seq."""
+
+        def scan(command, should_stop):
+            out = scanner(command, should_stop)
+            if len(self.scans) >= KEPT_SCANS:  # answers never written (a folder's fault)
+                self.scans.pop(min(self.scans))
+            self.scans[command.seq] = getattr(out, "result", out)
+            return out
+
+        scan.close = scanner.close
+        return scan
+
+    def scanned(self, answer):
+        """The ScanResult an ``ok`` answer reports (an SCF's or SCS's scan, a CAL's check
+        scan), or None; taken: asked once."""
+        result = self.scans.pop(answer.seq, None)
+        return result if answer.status == "ok" else None
 
     def poll(self):
         """Carry out what commands.txt holds that results.txt has not answered; returns the

@@ -1,7 +1,14 @@
 """The MCS link task panel: the folder of the three files, parameters.txt seen and edited with
 validation, and watching commands.txt with the log of the commands carried out. The link itself,
 and when it is polled, is ``link_watch.LinkWatch``'s: the headless link, so results.txt is
-written exactly as ``waferscan watch`` writes it."""
+written exactly as ``waferscan watch`` writes it.
+
+Once a scan is answered (an SCF, an SCS, a CAL's check scan), it is shown as Run scan shows
+one: the results table and the slot code, and the arm animated through the scan in the 3D view
+only (the document is not moved, so the next command reads it as the headless link does); with
+"Store in document" checked, the results are also kept in the document as Run scan keeps them
+(one undo step). The answer is written first: nothing shown holds it up. Of several answers
+given in one poll, the last scan is shown (and stored): each would replace the one before."""
 
 from __future__ import annotations
 
@@ -50,8 +57,11 @@ class _FittedTable(QtGui.QTableWidget):
 class McsTaskPanel(ClosableTaskPanel):
     """Folder, parameters, start/stop watching, and the log of the commands carried out."""
 
-    def __init__(self, doc, folder=None):
+    def __init__(self, doc, folder=None, show_results=None):
         self.doc = doc
+        # How a scan answered is shown as Run scan shows it (``dialogs.show_results_dialogs``,
+        # given by ``dialogs.open_mcs_panel``, which opens this panel); None: not shown.
+        self.show_results = show_results
         self.link = None  # the LinkWatch while watching
         self._polling = False
         # The text the panel last put in the editor, and the file's text as last seen.
@@ -69,6 +79,7 @@ class McsTaskPanel(ClosableTaskPanel):
         layout.addLayout(folder_browse_row)
         layout.addWidget(parameters)
         layout.addWidget(watching, 1)
+        self.animation = None  # the last answered scan's animation (ScanAnimation)
         self._folder = self.folder.text()
         self.load_parameters()
         self._buttons()
@@ -127,6 +138,11 @@ class McsTaskPanel(ClosableTaskPanel):
         self.alive_while_shown = self.state
         self.state.setWordWrap(True)
         self.log = self._log_table()
+        self.store = QtGui.QCheckBox("Store in document")
+        self.store.setObjectName("store")
+        self.store.setToolTip("Keep each scan the MCS asks for in the document's ScanResults "
+                              "spreadsheet, as Run scan does (one undo step each); off: the "
+                              "document is left as it is")
         watch_buttons = QtGui.QVBoxLayout()
         watch_buttons.addWidget(self.start_button)
         watch_buttons.addWidget(self.stop_button)
@@ -134,6 +150,7 @@ class McsTaskPanel(ClosableTaskPanel):
         watching_box = QtGui.QVBoxLayout(watching)
         watching_box.addLayout(watch_buttons)
         watching_box.addWidget(self.state)
+        watching_box.addWidget(self.store)
         watching_box.addWidget(self.log)
         return watching
 
@@ -347,9 +364,74 @@ class McsTaskPanel(ClosableTaskPanel):
         if self.link is not None:
             self.link.watch_commands_file()
             self._follow_parameters()
+        shown = None
         for answer in answers:
             self._add_log_row(answer)
+            result = self.link.scanned(answer) if self.link is not None else None
+            if result is not None:
+                shown = (answer, result)
+        if shown is not None:  # the last scan answered (an earlier one would be replaced)
+            self.show_scan(*shown)
         return answers
+
+    # --- a scan answered, shown as Run scan shows one -------------------------------------
+
+    def show_scan(self, answer, result):
+        """The results table and the slot code of ``result`` (answered to ``answer``), the
+        arm animated through it, and, with Store checked, the results kept in the document.
+        A failure to show is said in the log's state line; the answer is written already."""
+        try:
+            if self.store.isChecked():
+                self._store(result)
+            if self.show_results is not None:
+                self.show_results(self.doc, result=result)
+            self._animate(result)
+        except Exception as exc:  # noqa: BLE001 (the document changed under us): said, not raised
+            self._show_state(f"watching; seq {answer.seq} could not be shown: {exc}", error=True)
+            App.Console.PrintError(f"WaferScan: MCS seq {answer.seq}: not shown: {exc}\n")
+
+    def _store(self, result):
+        """What Run scan stores (cad/results_sheet.py), as its one undo step."""
+        from ..cad.results_sheet import store_in_document
+        from .session import session, transaction
+
+        session.results[self.doc.Name] = result
+        with transaction(self.doc, "WaferScan results"):
+            store_in_document(self.doc, result)
+
+    def _animate(self, result):
+        """The arm through the scan, in the 3D view only, over the preferences' playback time,
+        then back at its start pose as after Run scan; a newer scan's replaces it. A layout
+        whose moving objects the view cannot move on their own (a link's) is not animated: it
+        would move the document, which the next command reads."""
+        from ..cad.reader import DocumentScene
+        from ..cad.stepping import mover_for
+        from .animation import ScanAnimation, ViewPose
+        from .session import session
+
+        self.stop_animation()
+        scene = DocumentScene.of(self.doc)
+        pose = ViewPose.of(mover_for(scene, result.layout), result.layout.scan.start_z)
+        if pose is None:
+            return
+        pose.release()
+        previous = session.animation
+        if previous is not None:
+            previous.stop()
+        animation = ScanAnimation(self.doc, result, duration_s=preferences.playback_seconds(),
+                                  scene=scene)
+        # FreeCAD quit while it plays (QApplication.quit, as a script may): ended while the 3D
+        # views and their nodes are still there; quitting deletes them without closing the
+        # document first (FREECAD-NOTES: touching them after crashes FreeCAD).
+        quitting = QtGui.QApplication.instance().aboutToQuit
+        quitting.connect(animation.stop)
+        animation.finished.connect(lambda: _disconnect(quitting, animation.stop))
+        self.animation = session.animation = animation
+        animation.play()
+
+    def stop_animation(self):
+        if self.animation is not None and not self.animation.ended:
+            self.animation.stop()
 
     def _follow_parameters(self):
         """parameters.txt changed on disk (the MCS wrote it): show it, unless the user is
@@ -401,3 +483,11 @@ class McsTaskPanel(ClosableTaskPanel):
 
     def shut_down(self):
         self.stop()
+        self.stop_animation()
+
+
+def _disconnect(signal, slot):
+    try:
+        signal.disconnect(slot)
+    except (RuntimeError, TypeError):  # not connected (any more)
+        pass
