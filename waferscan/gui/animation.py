@@ -16,7 +16,7 @@ from ..cad.stepping import mover_for
 from ..cad.reader import DocumentScene
 from ..core.model import DOWN, UPDOWN
 from .beam_preview import previews
-from .qt import GuiDocumentClosing, set_progress
+from .qt import GuiDocumentClosing, main_window_alive, set_progress
 from .scan_appearance import BEAM_BLOCKED, BEAM_CLEAR, ScanAppearance
 
 EXACT_FRAMES = 2000  # an exact scan (z_step = 0) has no steps: it is drawn at this many
@@ -170,8 +170,9 @@ class ScanAnimation(QtCore.QObject):
                 step()
             except Exception as exc:  # the document changed under the animation
                 self.fault = self.fault or f"{type(exc).__name__}: {exc}"
-        Gui.getMainWindow().statusBar().removeWidget(self.bar)
-        self.bar.deleteLater()
+        if main_window_alive():  # not when FreeCAD quits: the status bar is gone
+            Gui.getMainWindow().statusBar().removeWidget(self.bar)
+            self.bar.deleteLater()
         if self.fault:
             App.Console.PrintError(f"WaferScan: animation stopped: {self.fault}\n")
         self.finished.emit()

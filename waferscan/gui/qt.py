@@ -111,24 +111,50 @@ class _DocumentClosed:
 class GuiDocumentClosing:
     """Calls ``then()`` when the GUI side of the document named ``name`` is about to go (its
     view providers, scene-graph nodes and 3D views still there), however it is closed: a tab,
-    Ctrl+W, File → Close, ``App.closeDocument`` or FreeCAD closing. An App document observer is
-    told only after FreeCAD's GUI has deleted them (touching them then crashed FreeCAD).
-    ``close()`` stops watching."""
+    Ctrl+W, File → Close, ``App.closeDocument`` or FreeCAD closing, the main window's Quit or
+    ``QApplication.quit()`` (as a script or a macro may) included. An App document observer is
+    told only after FreeCAD's GUI has deleted them (touching them then crashed FreeCAD); on
+    ``QApplication.quit()`` even the GUI document's deletion comes after the main window's, so
+    the application's ``aboutToQuit`` is the last moment. ``close()`` stops watching."""
 
     def __init__(self, name, then):
         self.name, self.then = name, then
         self._added = True
         Gui.addDocumentObserver(self)
+        self._quitting = QtGui.QApplication.instance().aboutToQuit
+        self._quitting.connect(self._quit)
 
     def slotDeletedDocument(self, gui_doc):  # noqa: N802 (FreeCAD's name)
         if gui_doc.Document.Name == self.name:
             self.then()
 
+    def _quit(self):
+        """FreeCAD is quitting: end now, and stop watching at once (no event loop is left for
+        ``close``'s later removal)."""
+        if self._added:
+            self.then()
+        if self._added:
+            self._added = False
+            self._disconnect()
+            Gui.removeDocumentObserver(self)
+
+    def _disconnect(self):
+        try:
+            self._quitting.disconnect(self._quit)
+        except (RuntimeError, TypeError):  # already disconnected
+            pass
+
     def close(self):
         if self._added:
             self._added = False
+            self._disconnect()
             # Later: FreeCAD may be calling this very observer now (removing it deletes it).
             QtCore.QTimer.singleShot(0, lambda: Gui.removeDocumentObserver(self))
+
+
+def main_window_alive():
+    """Whether FreeCAD's main window still exists (not while FreeCAD quits)."""
+    return alive(Gui.getMainWindow())
 
 
 def set_progress(bar, value):

@@ -1,0 +1,38 @@
+"""FreeCAD told to quit (``QApplication.quit()``, as a script or macro may) while a scan plays:
+it exits cleanly. Before, the animation was ended by the GUI document's deletion, which on a
+quit comes after the main window's: it took the status bar's progress bar off a main window
+already gone (SIGSEGV), and FreeCAD then hung in its crash handler until killed."""
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from processes import run_in_own_group
+
+REPO = Path(__file__).resolve().parents[2]
+PROBE = Path(__file__).resolve().with_name("quit_probe.py")
+EXAMPLES = REPO / "resources" / "examples"
+FREECAD = shutil.which("freecad")
+
+
+@pytest.mark.parametrize("phase, scenario", [("stroke", "paper.toml"),
+                                             ("pockets", "slow_jab.toml")])
+def test_quitting_during_a_scan_exits_cleanly(tmp_path, phase, scenario):
+    if FREECAD is None:
+        pytest.skip("FreeCAD (freecad) is not installed")
+    result_file = tmp_path / "result.json"
+    env = dict(os.environ, QTWEBENGINE_DISABLE_SANDBOX="1", WAFERSCAN_GUI_RESULT=str(result_file),
+               WAFERSCAN_GUI_PROBES=str(PROBE.parent), WAFERSCAN_GUI_QUIT_IN=phase,
+               WAFERSCAN_GUI_SCENARIO=str(EXAMPLES / scenario))
+    command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
+               str(tmp_path / "user.cfg"), str(PROBE)]
+    returncode, output, timed_out = run_in_own_group(command, timeout=150, env=env)
+    assert not timed_out, output[-3000:]  # before: hung after the crash
+    result = json.loads(result_file.read_text(encoding="utf-8"))
+    assert result["ok"], result.get("error")
+    assert result["playing"] is True and result["frame"] > 10
+    assert returncode == 0, output[-3000:]
+    assert "SIGSEGV" not in output and "Segmentation fault" not in output, output[-3000:]
+    assert "animation stopped" not in output, output[-3000:]
