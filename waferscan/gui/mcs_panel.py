@@ -8,7 +8,12 @@ one: the results table and the slot code, and the arm animated through the scan 
 only (the document is not moved, so the next command reads it as the headless link does); with
 "Store in document" checked, the results are also kept in the document as Run scan keeps them
 (one undo step). The answer is written first: nothing shown holds it up. Of several answers
-given in one poll, the last scan is shown (and stored): each would replace the one before."""
+given in one poll, the last scan is shown (and stored): each would replace the one before.
+
+Start watching, Stop watching and Save are recorded lines (``start_mcs_link``,
+``stop_mcs_link``, ``save_mcs_parameters``): the Python console shows them and a macro replays
+them without the panel's questions (the folder is in the line); a started link's line opens the
+panel when it is not open. From layout and Reload only fill the editor, and are not recorded."""
 
 from __future__ import annotations
 
@@ -34,6 +39,9 @@ from . import preferences
 from .inputs import folder_row
 from .link_watch import LinkWatch
 from .qt import ClosableTaskPanel
+from .session import doc_ref, record
+
+__all__ = ["McsTaskPanel", "start_mcs_link", "stop_mcs_link", "save_mcs_parameters"]
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
 
@@ -93,7 +101,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self.folder.setToolTip("The folder where the MCS writes parameters.txt and commands.txt "
                                "and reads results.txt")
         self.folder.editingFinished.connect(self._folder_edited)
-        return folder_row(self.folder, self.form, self.set_folder)
+        return folder_row(self.folder, self.form, self._folder_chosen)
 
     def _parameters_box(self):
         """parameters.txt: its editor, what is wrong with it, and From layout, Reload, Save."""
@@ -107,7 +115,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self.check.setWordWrap(True)
         self.save_button = QtGui.QPushButton("Save")
         self.save_button.setToolTip("Write parameters.txt (atomically) into the folder")
-        self.save_button.clicked.connect(self.save_parameters)
+        self.save_button.clicked.connect(self._record_save)
         reload_button = QtGui.QPushButton("Reload")
         reload_button.setToolTip("Read parameters.txt again from the folder")
         reload_button.clicked.connect(self.load_parameters)
@@ -132,8 +140,8 @@ class McsTaskPanel(ClosableTaskPanel):
                                      "in results.txt")
         self.stop_button = QtGui.QPushButton("Stop watching")
         self.stop_button.setToolTip("Stop carrying out commands; new ones wait for the next start")
-        self.start_button.clicked.connect(lambda: self.start())
-        self.stop_button.clicked.connect(self.stop)
+        self.start_button.clicked.connect(self._record_start)
+        self.stop_button.clicked.connect(self._record_stop)
         self.state = QtGui.QLabel("not watching")
         self.alive_while_shown = self.state
         self.state.setWordWrap(True)
@@ -205,7 +213,14 @@ class McsTaskPanel(ClosableTaskPanel):
     def _folder_edited(self):
         # editingFinished also fires when the field merely loses focus: only a change counts.
         if self.folder.text() != self._folder:
-            self.set_folder(self.folder.text())
+            self._folder_chosen(self.folder.text())
+
+    def _folder_chosen(self, folder):
+        """The user chose another folder (typed, or Browse…): watching stops, as the recorded
+        line ``stop_mcs_link`` says."""
+        if self.link is not None:
+            self._record_stop()
+        self.set_folder(folder)
 
     def load_parameters(self):
         """Show the folder's parameters.txt; with none, the layout's values (not yet saved)."""
@@ -268,6 +283,40 @@ class McsTaskPanel(ClosableTaskPanel):
                 self.editor.document().findBlockByNumber(line - 1))
             marks.append(mark)
         self.editor.setExtraSelections(marks)
+
+    def _record_save(self):
+        """Save, as the recorded line ``save_mcs_parameters(doc, folder, text)``: the text
+        checked and the folder chosen (asked for when the field is empty) first, so the line
+        asks nothing when replayed."""
+        if self.validate() is not None:
+            return
+        if not self.folder.text().strip() and not self._ask_folder("where to save "
+                                                                    "parameters.txt"):
+            self._show_check(False, "no MCS folder: choose one with Browse…")
+            return
+        try:
+            record(f"save_mcs_parameters({doc_ref(self.doc)}, {str(self.folder_path())!r}, "
+                   f"{self.editor.toPlainText()!r})")
+        except InputError:
+            pass  # the check line says why
+
+    def _record_start(self):
+        """Start watching, as the recorded line ``start_mcs_link(doc, folder)`` (the folder
+        asked for first when the field is empty: the line asks nothing when replayed)."""
+        if not self.folder.text().strip():
+            if not self._ask_folder("the folder to watch"):
+                self._show_state("no MCS folder: choose one with Browse…", error=True)
+                return
+            if self.editor.toPlainText() == self._text_put_in_editor:  # not edited
+                self.load_parameters()
+        store = ", store=True" if self.store.isChecked() else ""
+        try:
+            record(f"start_mcs_link({doc_ref(self.doc)}, {str(self.folder_path())!r}{store})")
+        except InputError:
+            pass  # the state line says why
+
+    def _record_stop(self):
+        record(f"stop_mcs_link({doc_ref(self.doc)})")
 
     def save_parameters(self):
         if self.validate() is not None:
@@ -491,3 +540,86 @@ def _disconnect(signal, slot):
         signal.disconnect(slot)
     except (RuntimeError, TypeError):  # not connected (any more)
         pass
+
+
+# --- what the panel's buttons record, callable from a macro ------------------------------
+
+def _open_panel(doc):
+    """The MCS link's panel open on ``doc``, or None."""
+    from .session import session
+
+    panel = session.task_panel
+    if isinstance(panel, McsTaskPanel) and panel.is_open() and panel.doc is doc:
+        return panel
+    return None
+
+
+def _folder(folder):
+    if not str(folder).strip():
+        raise InputError("folder", None, "no MCS folder given")
+    return Path(str(folder)).expanduser()
+
+
+def start_mcs_link(doc, folder, store=False):
+    """Watch ``folder``'s commands.txt for ``doc`` in the MCS link's panel (opened when it is
+    not), as its Start watching does (and records): each new command carried out and answered
+    in results.txt; with ``store``, each scan answered kept in the document as Run scan keeps
+    it. Raises InputError when the folder cannot be watched (not there, held by another link);
+    the panel says so too. Returns the panel."""
+    folder = _folder(folder)
+    panel = _open_panel(doc)
+    if panel is None:
+        from .dialogs import open_mcs_panel
+
+        panel = open_mcs_panel(doc, folder)
+    elif panel.folder_path() != folder:
+        panel.set_folder(folder)
+    panel.store.setChecked(bool(store))
+    if not panel.start():
+        raise InputError(str(folder), None, f"not watching: {panel.state.text()}")
+    return panel
+
+
+def stop_mcs_link(doc):
+    """Stop the MCS link watching for ``doc`` (its panel's Stop watching, which records this);
+    new commands wait for the next start. Returns whether it was watching."""
+    panel = _open_panel(doc)
+    if panel is None or not panel.watching:
+        App.Console.PrintMessage(f"WaferScan: the MCS link is not watching for {doc.Label}\n")
+        return False
+    panel.stop()
+    return True
+
+
+def save_mcs_parameters(doc, folder, text):
+    """Write ``text`` as ``folder``'s parameters.txt (atomically, a last newline added), as the
+    MCS link panel's Save does (and records), once it is checked as the link reads it: every
+    line, then against ``doc``'s layout. Raises InputError (naming the line) when it is not
+    valid or cannot be written; nothing is written then. An open panel on the folder shows the
+    text saved. Returns the path written."""
+    folder = _folder(folder)
+    panel = _open_panel(doc)
+    if panel is not None and panel.folder_path() == folder:
+        if panel.editor.toPlainText() != text:
+            panel._show_text(text)
+        if not panel.save_parameters():
+            raise InputError(str(folder / PARAMETERS), None, panel.check.text())
+        return folder / PARAMETERS
+    try:
+        layout = read_layout(doc)
+    except InputError:
+        raise
+    except Exception as exc:  # noqa: BLE001 (a closed document)
+        raise InputError("layout", None, f"the document cannot be read ({exc})") from None
+    apply_parameters(layout, parse_parameters(text, str(folder / PARAMETERS)))
+    if not folder.is_dir():
+        raise InputError(str(folder), None, "no such folder")
+    if text and not text.endswith("\n"):
+        text += "\n"  # the link takes a last line without its newline as still being written
+    try:
+        atomic_write_text(folder / PARAMETERS, text)
+    except OSError as exc:
+        raise InputError(str(folder / PARAMETERS), None,
+                         f"cannot write: {exc.strerror or exc}") from None
+    App.Console.PrintMessage(f"WaferScan: wrote {folder / PARAMETERS}\n")
+    return folder / PARAMETERS
