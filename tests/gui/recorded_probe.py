@@ -229,15 +229,27 @@ def mcs():
         "asked": asked, "error": error, "panel": isinstance(again, McsTaskPanel) and
         again is not panel and again.is_open(), **mcs_state(again)}
     window_shot("gui-recorded-mcs.png", dock_width=420)
+    again.store.click()  # while watching: its own line
+    result["mcs_store"] = {"calls": calls("store_mcs_scans"), **mcs_state(again)}
     stop_lines = calls("stop_mcs_link")
     asked, error = replay_line(stop_lines[-1]) if stop_lines else (None, "no line")
     result["mcs_stop_replay"] = {"asked": asked, "error": error, **mcs_state(again)}
+    for line in result["mcs_store"]["calls"][-1:]:  # not watching: a line that says so
+        result["mcs_store_replay"] = replay_line(line)
+    # Watching again, then the panel closed with its Close button: the link stops, recorded.
+    replay_line(start_lines[-1])
+    watching = again.watching
+    stops = len(calls("stop_mcs_link"))
+    again.reject()
+    Gui.updateGui()
+    result["mcs_closed"] = {"watching_before": watching, "watching": again.link is not None,
+                            "stop_lines": len(calls("stop_mcs_link")) - stops}
     # A folder that is not there: the line raises, the panel says why; no traceback.
     missing = os.path.join(folder, "not-there")
     asked, error = replay_line(f"waferscan.gui.commands.start_mcs_link("
                                f"App.getDocument({App.ActiveDocument.Name!r}), {missing!r})")
     result["mcs_missing"] = {"error": error, **mcs_state(task_panel())}
-    again.shut_down()
+    task_panel().shut_down()
     Gui.Control.closeDialog()
     finish()
 

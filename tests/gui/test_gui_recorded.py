@@ -99,3 +99,13 @@ def test_mcs_start_and_stop_are_lines_and_start_opens_the_panel(gui):
     assert missing["error"].startswith("InputError: ") and "no such folder" in missing["error"]
     assert missing["watching"] is False and "no such folder" in missing["state"]
     assert (ARTIFACTS / "gui-recorded-mcs.png").stat().st_size > 1000
+
+
+def test_store_while_watching_and_closing_the_panel_are_recorded(gui):
+    store = gui["mcs_store"]
+    assert store["watching"] is True and store["store"] is False
+    assert len(store["calls"]) == 1
+    assert store["calls"][0].startswith(f"{PREFIX}store_mcs_scans(App.getDocument('")
+    assert store["calls"][0].endswith("), False)")
+    assert gui["mcs_store_replay"] == [[], None]  # the panel is still open: nothing asked
+    assert gui["mcs_closed"] == {"watching_before": True, "watching": False, "stop_lines": 1}

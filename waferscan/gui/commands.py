@@ -22,7 +22,7 @@ from ..core.errors import WaferScanError
 from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_mcs_panel,
                       open_tolerance_study, save_calibration_recipe, show_results_dialogs)
 from .frames_panel import open_frames_panel, set_frames
-from .mcs_panel import save_mcs_parameters, start_mcs_link, stop_mcs_link
+from .mcs_script import save_mcs_parameters, start_mcs_link, stop_mcs_link, store_mcs_scans
 from .playback import replay_scan, run_scan
 from .recipe_section import apply_recipe
 from .results_view import export_results_csv
@@ -37,7 +37,7 @@ __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_fr
            "apply_calibration", "save_calibration_recipe", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
            "stop_tolerance_study", "open_frames_panel", "set_frames", "apply_recipe",
-           "apply_sensor_settings", "start_mcs_link", "stop_mcs_link", "save_mcs_parameters",
+           "apply_sensor_settings", "start_mcs_link", "stop_mcs_link", "save_mcs_parameters", "store_mcs_scans",
            "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
 

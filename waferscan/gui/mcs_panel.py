@@ -10,10 +10,13 @@ only (the document is not moved, so the next command reads it as the headless li
 (one undo step). The answer is written first: nothing shown holds it up. Of several answers
 given in one poll, the last scan is shown (and stored): each would replace the one before.
 
-Start watching, Stop watching and Save are recorded lines (``start_mcs_link``,
-``stop_mcs_link``, ``save_mcs_parameters``): the Python console shows them and a macro replays
-them without the panel's questions (the folder is in the line); a started link's line opens the
-panel when it is not open. From layout and Reload only fill the editor, and are not recorded."""
+Start watching, Stop watching, Save and Store in document while watching are recorded lines
+(``mcs_script``: ``start_mcs_link``, ``stop_mcs_link``, ``save_mcs_parameters``,
+``store_mcs_scans``): the
+Python console shows them and a macro replays them without the panel's questions (the folder is
+in the line); a started link's line opens the panel when it is not open. Another folder chosen,
+or the panel closed, while watching stops the link as ``stop_mcs_link`` does, and records it.
+From layout and Reload only fill the editor, and are not recorded."""
 
 from __future__ import annotations
 
@@ -41,7 +44,7 @@ from .link_watch import LinkWatch
 from .qt import ClosableTaskPanel
 from .session import doc_ref, record
 
-__all__ = ["McsTaskPanel", "start_mcs_link", "stop_mcs_link", "save_mcs_parameters"]
+__all__ = ["McsTaskPanel"]
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
 
@@ -151,6 +154,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self.store.setToolTip("Keep each scan the MCS asks for in the document's ScanResults "
                               "spreadsheet, as Run scan does (one undo step each); off: the "
                               "document is left as it is")
+        self.store.clicked.connect(self._record_store)  # the user's clicks, not setChecked
         watch_buttons = QtGui.QVBoxLayout()
         watch_buttons.addWidget(self.start_button)
         watch_buttons.addWidget(self.stop_button)
@@ -317,6 +321,18 @@ class McsTaskPanel(ClosableTaskPanel):
 
     def _record_stop(self):
         record(f"stop_mcs_link({doc_ref(self.doc)})")
+
+    def _record_store(self, checked):
+        """Store in document clicked while watching: the recorded line ``store_mcs_scans``
+        (not watching, the next Start watching's line carries it)."""
+        if self.link is not None:
+            record(f"store_mcs_scans({doc_ref(self.doc)}, {bool(checked)!r})")
+
+    def reject(self):
+        """Close: a link watching stops first, as the recorded line ``stop_mcs_link``."""
+        if self.link is not None:
+            self._record_stop()
+        return super().reject()
 
     def save_parameters(self):
         if self.validate() is not None:
@@ -541,85 +557,3 @@ def _disconnect(signal, slot):
     except (RuntimeError, TypeError):  # not connected (any more)
         pass
 
-
-# --- what the panel's buttons record, callable from a macro ------------------------------
-
-def _open_panel(doc):
-    """The MCS link's panel open on ``doc``, or None."""
-    from .session import session
-
-    panel = session.task_panel
-    if isinstance(panel, McsTaskPanel) and panel.is_open() and panel.doc is doc:
-        return panel
-    return None
-
-
-def _folder(folder):
-    if not str(folder).strip():
-        raise InputError("folder", None, "no MCS folder given")
-    return Path(str(folder)).expanduser()
-
-
-def start_mcs_link(doc, folder, store=False):
-    """Watch ``folder``'s commands.txt for ``doc`` in the MCS link's panel (opened when it is
-    not), as its Start watching does (and records): each new command carried out and answered
-    in results.txt; with ``store``, each scan answered kept in the document as Run scan keeps
-    it. Raises InputError when the folder cannot be watched (not there, held by another link);
-    the panel says so too. Returns the panel."""
-    folder = _folder(folder)
-    panel = _open_panel(doc)
-    if panel is None:
-        from .dialogs import open_mcs_panel
-
-        panel = open_mcs_panel(doc, folder)
-    elif panel.folder_path() != folder:
-        panel.set_folder(folder)
-    panel.store.setChecked(bool(store))
-    if not panel.start():
-        raise InputError(str(folder), None, f"not watching: {panel.state.text()}")
-    return panel
-
-
-def stop_mcs_link(doc):
-    """Stop the MCS link watching for ``doc`` (its panel's Stop watching, which records this);
-    new commands wait for the next start. Returns whether it was watching."""
-    panel = _open_panel(doc)
-    if panel is None or not panel.watching:
-        App.Console.PrintMessage(f"WaferScan: the MCS link is not watching for {doc.Label}\n")
-        return False
-    panel.stop()
-    return True
-
-
-def save_mcs_parameters(doc, folder, text):
-    """Write ``text`` as ``folder``'s parameters.txt (atomically, a last newline added), as the
-    MCS link panel's Save does (and records), once it is checked as the link reads it: every
-    line, then against ``doc``'s layout. Raises InputError (naming the line) when it is not
-    valid or cannot be written; nothing is written then. An open panel on the folder shows the
-    text saved. Returns the path written."""
-    folder = _folder(folder)
-    panel = _open_panel(doc)
-    if panel is not None and panel.folder_path() == folder:
-        if panel.editor.toPlainText() != text:
-            panel._show_text(text)
-        if not panel.save_parameters():
-            raise InputError(str(folder / PARAMETERS), None, panel.check.text())
-        return folder / PARAMETERS
-    try:
-        layout = read_layout(doc)
-    except InputError:
-        raise
-    except Exception as exc:  # noqa: BLE001 (a closed document)
-        raise InputError("layout", None, f"the document cannot be read ({exc})") from None
-    apply_parameters(layout, parse_parameters(text, str(folder / PARAMETERS)))
-    if not folder.is_dir():
-        raise InputError(str(folder), None, "no such folder")
-    if text and not text.endswith("\n"):
-        text += "\n"  # the link takes a last line without its newline as still being written
-    try:
-        atomic_write_text(folder / PARAMETERS, text)
-    except OSError as exc:
-        raise InputError(str(folder / PARAMETERS), None,
-                         f"cannot write: {exc.strerror or exc}") from None
-    App.Console.PrintMessage(f"WaferScan: wrote {folder / PARAMETERS}\n")
-    return folder / PARAMETERS
