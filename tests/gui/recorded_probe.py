@@ -97,6 +97,7 @@ def begin():
     Gui.runCommand("WaferScan_TagWafer")
     Gui.updateGui()
     result["split_calls"] = calls("tag_selection")
+    result["split_questions"] = list(result.get("questions", []))
     result["split_made"] = split_state(doc)
     result["split_undo"] = list(doc.UndoNames)[:2]
     Gui.SendMsgToActiveView("ViewFit")
@@ -109,10 +110,32 @@ def begin():
         asked, error = replay_line(result["split_calls"][-1])
         result["split_replay"] = {"asked": asked, "error": error, "made": split_state(doc),
                                   "undo": list(doc.UndoNames)[:2]}
+    retag(doc)
     App.closeDocument(doc.Name)
     first = scan_paper_layout()
     first.speed.setValue(1.0)
     wait_for("the scan's end", lambda: first.animation.ended, apply_settings)
+
+
+def retag(doc):
+    """A wafer tagged as the scanner: the re-tag question's answer goes into the line too."""
+    wafer = next(o for o in doc.Objects if getattr(o, "WaferScanRole", "") == "Wafer")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(wafer)
+    asked = len(result.get("questions", []))
+    answer_next_question("Tag as scanner")
+    Gui.runCommand("WaferScan_TagScanner")
+    Gui.updateGui()
+    message_texts()
+    lines = [c for c in calls("tag_selection") if "('scanner'" in c]
+    made = [wafer.WaferScanRole, list(doc.UndoNames)[:1]]
+    doc.undo()
+    undone = wafer.WaferScanRole
+    replayed = replay_line(lines[-1]) if lines else (None, "no line")
+    message_texts()
+    result["retag"] = {"calls": lines, "questions": result.get("questions", [])[asked:],
+                       "made": made, "undone": undone, "replay": replayed,
+                       "replayed": [wafer.WaferScanRole, list(doc.UndoNames)[:1]]}
 
 
 # --- the scan panel's Recipe and Sensor Apply ---------------------------------------------

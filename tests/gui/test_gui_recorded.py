@@ -26,7 +26,7 @@ def gui(run_gui_probe):
 def test_the_split_answer_is_in_the_tag_line_and_replays_without_a_question(gui):
     assert gui["split_calls"] == [f"{PREFIX}tag_selection('wafer', [{DOC}.getObject('Tool')], "
                                   "split=True)"]
-    assert len(gui["questions"]) == 1 and "compound" in gui["questions"][0]
+    assert len(gui["split_questions"]) == 1 and "compound" in gui["split_questions"][0]
     made = gui["split_made"]
     # the compound kept (hidden), its box and its three discs, tagged as wafers
     assert [m[0] for m in made] == ["", "", "Wafer", "Wafer", "Wafer"]
@@ -37,6 +37,16 @@ def test_the_split_answer_is_in_the_tag_line_and_replays_without_a_question(gui)
     assert replay["made"] == made and replay["undo"] == gui["split_undo"]
     assert "Split Tool into 4 solids and tagged 3 as wafers" in gui["split_message"]
     assert (ARTIFACTS / "gui-recorded-split.png").stat().st_size > 1000
+
+
+def test_the_retag_answer_is_in_the_line_too(gui):
+    retag = gui["retag"]
+    assert len(retag["calls"]) == 1 and len(retag["questions"]) == 1
+    assert "already has a WaferScan role" in retag["questions"][0]
+    assert retag["calls"][0].startswith(f"{PREFIX}tag_selection('scanner', [{DOC}.getObject(")
+    assert retag["calls"][0].endswith(")], retag=True)")
+    assert retag["made"] == ["Scanner", ["Tag as scanner"]] and retag["undone"] == "Wafer"
+    assert retag["replay"] == [[], None] and retag["replayed"] == retag["made"]
 
 
 def test_recipe_and_sensor_apply_are_lines_that_replay_after_undo(gui):
