@@ -98,9 +98,8 @@ def read_panel():
 def old_document():
     """The Recipe section on a ScanSettings saved by an earlier version (the limits bare floats
     in mm, -1 for "not set"): shown in inches, and written back in that convention."""
-    from waferscan.cad.reader import DocumentScene, read_layout
+    from waferscan.cad.reader import read_layout
     from waferscan.gui.recipe_section import RecipeSection
-    from waferscan.gui.session import transaction
 
     doc = App.ActiveDocument
     obj = scan_settings()
@@ -112,7 +111,7 @@ def old_document():
         obj.addProperty("App::PropertyFloat", prop, "WaferScan", tip)
         setattr(obj, prop, -1.0)
     obj.ThicknessMin = 0.66
-    section = RecipeSection(doc, lambda d: read_layout(d, DocumentScene.of(d)), transaction)
+    section = RecipeSection(doc)
     result["old_shown"] = {p: f.text() for p, f in section.fields.items()}
     undo_before = doc.UndoCount
     section.fields["ThicknessMax"].setText("1,1 mm")

@@ -22,18 +22,23 @@ from ..core.errors import WaferScanError
 from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_mcs_panel,
                       open_tolerance_study, save_calibration_recipe, show_results_dialogs)
 from .frames_panel import open_frames_panel, set_frames
+from .mcs_script import save_mcs_parameters, start_mcs_link, stop_mcs_link, store_mcs_scans
 from .playback import replay_scan, run_scan
+from .recipe_section import apply_recipe
 from .results_view import export_results_csv
 from .scanning import open_scenario
+from .sensor_section import apply_sensor_settings
 from .session import doc_ref, record, report, session
-from .tagging import make_carrier_from_solids, tag_selection, untag_selection
+from .tagging import make_carrier_from_solids, record_tagging, tag_selection, untag_selection
 from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
 
 __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_from_solids",
            "run_scan", "replay_scan", "export_results_csv", "calibrate_layout",
            "apply_calibration", "save_calibration_recipe", "open_mcs_panel",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
-           "stop_tolerance_study", "open_frames_panel", "set_frames", "session", "record",
+           "stop_tolerance_study", "open_frames_panel", "set_frames", "apply_recipe",
+           "apply_sensor_settings", "start_mcs_link", "stop_mcs_link", "save_mcs_parameters", "store_mcs_scans",
+           "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
 
 
@@ -105,11 +110,7 @@ class Tag(_Command):
         self.icon = f"WaferScan_Tag{role.capitalize()}.svg"
 
     def run(self):
-        selection = Gui.Selection.getSelection()
-        if not selection:
-            tag_selection(self.role, selection)  # says what to select
-            return
-        record(f"tag_selection({self.role!r}, {_objects_ref(selection)})")
+        record_tagging(self.role, Gui.Selection.getSelection())  # its questions asked first
 
     def IsActive(self):
         return bool(Gui.Selection.getSelection())

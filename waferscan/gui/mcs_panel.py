@@ -8,7 +8,15 @@ one: the results table and the slot code, and the arm animated through the scan 
 only (the document is not moved, so the next command reads it as the headless link does); with
 "Store in document" checked, the results are also kept in the document as Run scan keeps them
 (one undo step). The answer is written first: nothing shown holds it up. Of several answers
-given in one poll, the last scan is shown (and stored): each would replace the one before."""
+given in one poll, the last scan is shown (and stored): each would replace the one before.
+
+Start watching, Stop watching, Save and Store in document while watching are recorded lines
+(``mcs_script``: ``start_mcs_link``, ``stop_mcs_link``, ``save_mcs_parameters``,
+``store_mcs_scans``): the
+Python console shows them and a macro replays them without the panel's questions (the folder is
+in the line); a started link's line opens the panel when it is not open. Another folder chosen,
+or the panel closed, while watching stops the link as ``stop_mcs_link`` does, and records it.
+From layout and Reload only fill the editor, and are not recorded."""
 
 from __future__ import annotations
 
@@ -34,6 +42,9 @@ from . import preferences
 from .inputs import folder_row
 from .link_watch import LinkWatch
 from .qt import ClosableTaskPanel
+from .session import doc_ref, record
+
+__all__ = ["McsTaskPanel"]
 
 LOG_COLUMNS = ("Time", "Seq", "Command", "Status", "Code / message")
 
@@ -93,7 +104,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self.folder.setToolTip("The folder where the MCS writes parameters.txt and commands.txt "
                                "and reads results.txt")
         self.folder.editingFinished.connect(self._folder_edited)
-        return folder_row(self.folder, self.form, self.set_folder)
+        return folder_row(self.folder, self.form, self._folder_chosen)
 
     def _parameters_box(self):
         """parameters.txt: its editor, what is wrong with it, and From layout, Reload, Save."""
@@ -107,7 +118,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self.check.setWordWrap(True)
         self.save_button = QtGui.QPushButton("Save")
         self.save_button.setToolTip("Write parameters.txt (atomically) into the folder")
-        self.save_button.clicked.connect(self.save_parameters)
+        self.save_button.clicked.connect(self._record_save)
         reload_button = QtGui.QPushButton("Reload")
         reload_button.setToolTip("Read parameters.txt again from the folder")
         reload_button.clicked.connect(self.load_parameters)
@@ -132,8 +143,8 @@ class McsTaskPanel(ClosableTaskPanel):
                                      "in results.txt")
         self.stop_button = QtGui.QPushButton("Stop watching")
         self.stop_button.setToolTip("Stop carrying out commands; new ones wait for the next start")
-        self.start_button.clicked.connect(lambda: self.start())
-        self.stop_button.clicked.connect(self.stop)
+        self.start_button.clicked.connect(self._record_start)
+        self.stop_button.clicked.connect(self._record_stop)
         self.state = QtGui.QLabel("not watching")
         self.alive_while_shown = self.state
         self.state.setWordWrap(True)
@@ -143,6 +154,7 @@ class McsTaskPanel(ClosableTaskPanel):
         self.store.setToolTip("Keep each scan the MCS asks for in the document's ScanResults "
                               "spreadsheet, as Run scan does (one undo step each); off: the "
                               "document is left as it is")
+        self.store.clicked.connect(self._record_store)  # the user's clicks, not setChecked
         watch_buttons = QtGui.QVBoxLayout()
         watch_buttons.addWidget(self.start_button)
         watch_buttons.addWidget(self.stop_button)
@@ -205,7 +217,14 @@ class McsTaskPanel(ClosableTaskPanel):
     def _folder_edited(self):
         # editingFinished also fires when the field merely loses focus: only a change counts.
         if self.folder.text() != self._folder:
-            self.set_folder(self.folder.text())
+            self._folder_chosen(self.folder.text())
+
+    def _folder_chosen(self, folder):
+        """The user chose another folder (typed, or Browse…): watching stops, as the recorded
+        line ``stop_mcs_link`` says."""
+        if self.link is not None:
+            self._record_stop()
+        self.set_folder(folder)
 
     def load_parameters(self):
         """Show the folder's parameters.txt; with none, the layout's values (not yet saved)."""
@@ -268,6 +287,52 @@ class McsTaskPanel(ClosableTaskPanel):
                 self.editor.document().findBlockByNumber(line - 1))
             marks.append(mark)
         self.editor.setExtraSelections(marks)
+
+    def _record_save(self):
+        """Save, as the recorded line ``save_mcs_parameters(doc, folder, text)``: the text
+        checked and the folder chosen (asked for when the field is empty) first, so the line
+        asks nothing when replayed."""
+        if self.validate() is not None:
+            return
+        if not self.folder.text().strip() and not self._ask_folder("where to save "
+                                                                    "parameters.txt"):
+            self._show_check(False, "no MCS folder: choose one with Browse…")
+            return
+        try:
+            record(f"save_mcs_parameters({doc_ref(self.doc)}, {str(self.folder_path())!r}, "
+                   f"{self.editor.toPlainText()!r})")
+        except InputError:
+            pass  # the check line says why
+
+    def _record_start(self):
+        """Start watching, as the recorded line ``start_mcs_link(doc, folder)`` (the folder
+        asked for first when the field is empty: the line asks nothing when replayed)."""
+        if not self.folder.text().strip():
+            if not self._ask_folder("the folder to watch"):
+                self._show_state("no MCS folder: choose one with Browse…", error=True)
+                return
+            if self.editor.toPlainText() == self._text_put_in_editor:  # not edited
+                self.load_parameters()
+        store = ", store=True" if self.store.isChecked() else ""
+        try:
+            record(f"start_mcs_link({doc_ref(self.doc)}, {str(self.folder_path())!r}{store})")
+        except InputError:
+            pass  # the state line says why
+
+    def _record_stop(self):
+        record(f"stop_mcs_link({doc_ref(self.doc)})")
+
+    def _record_store(self, checked):
+        """Store in document clicked while watching: the recorded line ``store_mcs_scans``
+        (not watching, the next Start watching's line carries it)."""
+        if self.link is not None:
+            record(f"store_mcs_scans({doc_ref(self.doc)}, {bool(checked)!r})")
+
+    def reject(self):
+        """Close: a link watching stops first, as the recorded line ``stop_mcs_link``."""
+        if self.link is not None:
+            self._record_stop()
+        return super().reject()
 
     def save_parameters(self):
         if self.validate() is not None:
@@ -491,3 +556,4 @@ def _disconnect(signal, slot):
         signal.disconnect(slot)
     except (RuntimeError, TypeError):  # not connected (any more)
         pass
+

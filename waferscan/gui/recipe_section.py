@@ -1,7 +1,9 @@
 """The scan panel's collapsible "Recipe" section (SPEC §11): the document's ScanSettings recipe
 (rule set, thickness and position windows, double threshold, thickness correction), shown and
 edited where the scan is run. As the "Sensor and slow scan" section does, Apply writes the
-properties in one undo step and reads the document back through the scan's readers, so a recipe
+properties changed in one undo step, as the recorded line
+``apply_recipe(App.getDocument('X'), thickness_min=App.Units.Quantity('0.66 mm'), rules='boundary')``
+(what a macro replays), and reads the document back through the scan's readers, so a recipe
 they refuse (a window whose min is not below its max) is refused here with their words and
 nothing is written; Replay then scans with it. The limits are lengths in the user's unit
 schema (typed in any unit); a limit left blank is not set (its "...Set" box in the property
@@ -14,9 +16,14 @@ from __future__ import annotations
 from PySide import QtGui
 
 from ..cad.recipe_properties import OLD_KIND, limit_value, set_flag
+from ..core.errors import InputError
 from ..core.mapping import RULE_SETS
 from .inputs import QuantityField, format_length, normalise
-from .settings_section import SettingsSection, settings_object
+from .session import doc_ref
+from .settings_section import (SettingsSection, keyword, quantity_ref, settings_object, value_in,
+                               write_settings)
+
+__all__ = ["RecipeSection", "apply_recipe"]
 
 # (property, label): lengths in the user's unit; blank means not set.
 LIMITS = (("ThicknessMin", "Thickness min"), ("ThicknessMax", "Thickness max"),
@@ -24,6 +31,13 @@ LIMITS = (("ThicknessMin", "Thickness min"), ("ThicknessMax", "Thickness max"),
           ("PositionAbove", "Above seat"))
 OLD_NOT_SET = -1.0  # an earlier version's "not set" (App::PropertyFloat limits)
 PROPERTIES = tuple(p for p, _ in LIMITS) + ("ThicknessCorrection", "Rules")
+UNDO_NAME = "WaferScan recipe"
+MISSING = "No ScanSettings with a recipe: Run scan adds one."
+
+
+def _old(obj):
+    """Whether ``obj`` holds the limits as an earlier version did (floats, -1: not set)."""
+    return obj is not None and obj.getTypeIdOfProperty("ThicknessMin") == OLD_KIND
 
 
 class RecipeSection(SettingsSection):
@@ -34,15 +48,15 @@ class RecipeSection(SettingsSection):
     tip = "Show and edit the mapping recipe of the document's ScanSettings (SPEC §11)"
     apply_tip = ("Write the recipe to the document's ScanSettings (one undo step); the next "
                  "Run scan or Replay judges by it")
-    undo_name = "WaferScan recipe"
-    missing = "No ScanSettings with a recipe: Run scan adds one."
+    undo_name = UNDO_NAME
+    missing = MISSING
     written = "Run scan or Replay to judge by them."
     properties = PROPERTIES
     followed = tuple(set_flag(p) for p, _ in LIMITS)
 
-    def __init__(self, doc, check, transaction, applied=None, plan=None):
+    def __init__(self, doc, applied=None, plan=None):
         self.plan = plan
-        super().__init__(doc, check, transaction, applied)
+        super().__init__(doc, applied)
 
     def build(self, form):
         self.rules = QtGui.QComboBox()
@@ -81,7 +95,7 @@ class RecipeSection(SettingsSection):
         self.rules.setCurrentIndex(self.rules.findText(str(obj.Rules)))
 
     def _old(self, obj):
-        return obj is not None and obj.getTypeIdOfProperty("ThicknessMin") == OLD_KIND
+        return _old(obj)
 
     def values(self):
         """{property: value} as typed (limits in mm, each with its "...Set" box; in an earlier
@@ -113,3 +127,53 @@ class RecipeSection(SettingsSection):
             return str(obj.Rules)
         value = getattr(obj, prop)
         return value if isinstance(value, bool) else float(getattr(value, "Value", value))
+
+    def call(self, values, changed):
+        """The recorded line writing the ``changed`` properties of ``values``: a limit as a
+        quantity in mm, or None when not set."""
+        arguments = [doc_ref(self.doc)]
+        for prop, _ in LIMITS:
+            if prop in changed or set_flag(prop) in changed:
+                value = values.get(prop, OLD_NOT_SET)
+                shown = values.get(set_flag(prop), value != OLD_NOT_SET)
+                text = quantity_ref(value, "mm") if shown else "None"
+                arguments.append(f"{keyword(prop)}={text}")
+        for prop in ("ThicknessCorrection", "Rules"):
+            if prop in changed:
+                arguments.append(f"{keyword(prop)}={values[prop]!r}")
+        return f"apply_recipe({', '.join(arguments)})"
+
+
+def apply_recipe(doc, **recipe):
+    """Write the mapping recipe (SPEC §11) to the document's ScanSettings, as the scan panel's
+    "Recipe" section's Apply does (and records), in one undo step named "WaferScan recipe"; the
+    next Run scan or Replay judges by it. Only the keys given are written: ``thickness_min``,
+    ``thickness_max``, ``double_threshold``, ``position_below``, ``position_above`` (lengths:
+    FreeCAD quantities such as ``App.Units.Quantity('0.6 mm')``, or bare numbers in mm; None:
+    not set, SPEC §4's rule from t, Δt and Δp), ``thickness_correction`` (a number) and
+    ``rules`` ("waferscan" or "boundary"). A recipe the scan's readers refuse raises their
+    InputError and nothing is written. Returns the properties changed."""
+    obj = settings_object(doc)
+    old = _old(obj)
+    limits = {keyword(prop): prop for prop, _ in LIMITS}
+    values = {}
+    for name, value in recipe.items():
+        if name in limits:
+            prop = limits[name]
+            mm = None if value is None else value_in(value, "mm", name)
+            if old:
+                values[prop] = OLD_NOT_SET if mm is None else mm
+            else:
+                values[set_flag(prop)] = mm is not None
+                if mm is not None:
+                    values[prop] = mm
+        elif name == "thickness_correction":
+            values["ThicknessCorrection"] = value_in(value, "", name)
+        elif name == "rules":
+            if value not in RULE_SETS:
+                raise InputError("rules", None, f"{value!r} is not one of {', '.join(RULE_SETS)}")
+            values["Rules"] = str(value)
+        else:
+            raise InputError(name, None, "not a key of the recipe (one of "
+                                         f"{', '.join([*limits, 'thickness_correction', 'rules'])})")
+    return write_settings(doc, values, UNDO_NAME, MISSING)

@@ -10,7 +10,6 @@ from PySide import QtCore, QtGui
 from ..addon import icon_path
 from .inputs import format_length, length_input, set_length
 from .qt import ClosableTaskPanel, set_progress
-from .session import transaction
 
 
 class ScanTaskPanel(ClosableTaskPanel):
@@ -89,19 +88,13 @@ class ScanTaskPanel(ClosableTaskPanel):
         layout_box.addWidget(self.recipe)
         layout_box.addLayout(form)
         # Issues 14 and 17: the sensor's and the slow scan's settings, edited where scans run.
-        from ..cad.reader import DocumentScene, read_layout
         from .sensor_section import SensorSection
 
-        self.sensor = SensorSection(animation.doc,
-                                    lambda doc: read_layout(doc, DocumentScene.of(doc)),
-                                    transaction)
+        self.sensor = SensorSection(animation.doc)
         layout_box.addWidget(self.sensor.box)
         from .recipe_section import RecipeSection  # SPEC §11: the recipe, edited here too
 
-        self.recipe_section = RecipeSection(animation.doc,
-                                            lambda doc: read_layout(doc, DocumentScene.of(doc)),
-                                            transaction, None,
-                                            animation.result.plan)
+        self.recipe_section = RecipeSection(animation.doc, None, animation.result.plan)
         layout_box.addWidget(self.recipe_section.box)
         layout_box.addWidget(self.progress)
         from .signal_view import live_trace  # SPEC §10: b(z) beside the animation

@@ -1,6 +1,9 @@
 """Tagging: the selected objects given a WaferScan role (wafer, carrier or scanner) as one undo
 step, with what to set or select next said to the user. An object with another role is
-re-tagged only when the user says so; a compound of several solids is offered to be split."""
+re-tagged only when the user says so; a compound of several solids is offered to be split.
+The Tag commands ask those questions first (``record_tagging``) and record the answers in the
+line they run, ``tag_selection('wafer', [...], split=True)``, so that a macro replays it without
+asking."""
 
 from __future__ import annotations
 
@@ -9,10 +12,10 @@ import FreeCADGui as Gui
 from PySide import QtGui
 
 from ..core.errors import InputError
-from .session import ask, report, transaction
+from .session import ask, doc_ref, record, report, transaction
 
-__all__ = ["tag_selection", "untag_selection", "make_carrier_from_solids", "ROLE_NAMES",
-           "TAG_HINTS"]
+__all__ = ["tag_selection", "record_tagging", "untag_selection", "make_carrier_from_solids",
+           "ROLE_NAMES", "TAG_HINTS"]
 
 
 ROLE_NAMES = {"wafer": "Wafer", "carrier": "Carrier", "scanner": "Scanner"}
@@ -21,37 +24,37 @@ TAG_HINTS = {"wafer": "its disc is read from its solid",
              "scanner": "set Emitter and Receiver (in its own frame) in its Data tab"}
 
 
-def tag_selection(role, selection=None, diameters=None):
+def tag_selection(role, selection=None, diameters=None, split=None, retag=None):
     """Give the selected objects a role (wafer, carrier or scanner) as one undo step; a solid
     that cannot take it leaves the document as it was. An object that has another role is
-    re-tagged only when the user says so; a compound of several solids (a STEP file imported
-    with "merge compound" on) is offered to be split into its solids first, and then only the
-    wafer-like discs among them are tagged as wafers (``rules.wafer_like``: a SEMI size, or one
-    of ``diameters`` in mm). A disc selected on its own is tagged whatever its size, with a
-    word when it does not look like a wafer. A carrier takes its wafers' size from the discs
-    already tagged as wafers."""
-    from ..cad import roles
-
+    re-tagged only when the user says so (``retag``: True re-tags, False leaves all as it is,
+    None asks); a compound of several solids (a STEP file imported with "merge compound" on) is
+    split into its solids first when the user says so (``split``: True splits, False tags each
+    compound whole, not for wafers, None asks), and then only the wafer-like discs among them
+    are tagged as wafers (``rules.wafer_like``: a SEMI size, or one of ``diameters`` in mm). A
+    disc selected on its own is tagged whatever its size, with a word when it does not look
+    like a wafer. A carrier takes its wafers' size from the discs already tagged as wafers."""
     objects = list(Gui.Selection.getSelection() if selection is None else selection)
     if not objects:
         raise InputError("selection", None, f"select the object(s) to tag as {role} first")
     doc = objects[0].Document
-    other = [o for o in objects if roles.role_of(o) not in (None, ROLE_NAMES[role])]
+    other = _other_roles(role, objects)
     if other:
-        names = ", ".join(f"{o.Label} ({roles.role_of(o).lower()})" for o in other)
-        retag = f"Tag as {role}"
-        if ask(f"{names} already {'has' if len(other) == 1 else 'have'} a WaferScan role. "
-               f"Tag {'it' if len(other) == 1 else 'them'} as {role} instead?",
-               [(retag, QtGui.QMessageBox.AcceptRole),
-                ("Cancel", QtGui.QMessageBox.RejectRole)]) != retag:
+        if retag is None:
+            retag = _ask_retag(role, other)
+        if not retag:
             return []
-    compounds = [o for o in objects if roles.role_of(o) is None and roles.is_compound_of_solids(o)]
+    compounds = _compounds(objects)
     if compounds:
-        split = _offer_split(role, compounds)
+        if split is None:
+            split = _offer_split(role, compounds)
         if split is None:
             return []
         if split:
             return _split_and_tag(role, objects, compounds, diameters)
+        if role == "wafer":
+            raise InputError("split", None, "a wafer is one solid: a compound is split into its "
+                                            "solids (split=True), not tagged whole as a wafer")
     notes = []
     with transaction(doc, f"Tag as {role}"):
         notes += _tag_all(role, objects, diameters)
@@ -64,6 +67,57 @@ def tag_selection(role, selection=None, diameters=None):
     else:
         report(message)
     return objects
+
+
+def record_tagging(role, selection):
+    """Tag as ``role``, as the Tag commands do: the questions tagging would ask (re-tag objects
+    with another role? split a compound?) are asked now, and their answers go into the line
+    recorded and run, ``tag_selection(role, [...], retag=True, split=True)``, which a macro
+    replays without asking. Cancelled: nothing recorded, nothing done."""
+    objects = list(selection)
+    if not objects:
+        tag_selection(role, objects)  # says what to select
+        return
+    answers = ""
+    other = _other_roles(role, objects)
+    if other:
+        if not _ask_retag(role, other):
+            return
+        answers += ", retag=True"
+    compounds = _compounds(objects)
+    if compounds:
+        split = _offer_split(role, compounds)
+        if split is None:
+            return
+        answers += f", split={split!r}"
+    listed = ", ".join(f"{doc_ref(o.Document)}.getObject({o.Name!r})" for o in objects)
+    record(f"tag_selection({role!r}, [{listed}]{answers})")
+
+
+def _other_roles(role, objects):
+    """Those of ``objects`` that have a role other than ``role``."""
+    from ..cad import roles
+
+    return [o for o in objects if roles.role_of(o) not in (None, ROLE_NAMES[role])]
+
+
+def _compounds(objects):
+    """Those of ``objects`` (without a role) that are compounds of several solids."""
+    from ..cad import roles
+
+    return [o for o in objects if roles.role_of(o) is None and roles.is_compound_of_solids(o)]
+
+
+def _ask_retag(role, other):
+    """Ask whether to tag ``other`` (objects with another role) as ``role`` instead."""
+    from ..cad import roles
+
+    names = ", ".join(f"{o.Label} ({roles.role_of(o).lower()})" for o in other)
+    retag = f"Tag as {role}"
+    return ask(f"{names} already {'has' if len(other) == 1 else 'have'} a WaferScan role. "
+               f"Tag {'it' if len(other) == 1 else 'them'} as {role} instead?",
+               [(retag, QtGui.QMessageBox.AcceptRole),
+                ("Cancel", QtGui.QMessageBox.RejectRole)]) == retag
 
 
 def _tag_all(role, objects, diameters=None):
