@@ -5,9 +5,12 @@ A command does its work as FreeCAD's own do: it runs one line of Python through
 ``Gui.doCommand`` (``record``), so that the Python console shows, and a macro keeps, the call a
 script would make, such as ``waferscan.gui.commands.run_scan(App.getDocument('MyCell'))``. The
 functions those lines call live by subject: ``scanning`` (open_scenario), ``tagging``,
-``playback`` (run_scan), ``frames_panel`` (open_frames_panel, set_frames) and ``dialogs``
-(results, cross-check, calibration, tolerance study, MCS link). They are named in this module too, because recorded lines and users' macros
-name them through it; a user's mistake (a WaferScanError) is reported by ``session.report``."""
+``playback`` (run_scan, replay_scan), ``frames_panel`` (set up carrier and sensor),
+``results_view`` (Export CSV), ``tolerance_dialog`` (the study's Run and Stop), ``mcs_script``
+(the MCS link's Start, Stop, Save), the scan panel's sections (Apply) and ``dialogs``
+(results, cross-check, calibration, tolerance study, MCS link); docs/tutorials/gui.md lists
+the lines. They are named in this module too, because recorded lines and users' macros name
+them through it; a user's mistake (a WaferScanError) is reported by ``session.report``."""
 
 from __future__ import annotations
 

@@ -485,12 +485,8 @@ class McsTaskPanel(ClosableTaskPanel):
             previous.stop()
         animation = ScanAnimation(self.doc, result, duration_s=preferences.playback_seconds(),
                                   scene=scene)
-        # FreeCAD quit while it plays (QApplication.quit, as a script may): ended while the 3D
-        # views and their nodes are still there; quitting deletes them without closing the
-        # document first (FREECAD-NOTES: touching them after crashes FreeCAD).
-        quitting = QtGui.QApplication.instance().aboutToQuit
-        quitting.connect(animation.stop)
-        animation.finished.connect(lambda: _disconnect(quitting, animation.stop))
+        # FreeCAD quitting while it plays ends it in time (qt.GuiDocumentClosing), as Run
+        # scan's.
         self.animation = session.animation = animation
         animation.play()
 
@@ -550,10 +546,4 @@ class McsTaskPanel(ClosableTaskPanel):
         self.stop()
         self.stop_animation()
 
-
-def _disconnect(signal, slot):
-    try:
-        signal.disconnect(slot)
-    except (RuntimeError, TypeError):  # not connected (any more)
-        pass
 
