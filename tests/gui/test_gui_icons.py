@@ -11,7 +11,7 @@ from waferscan.addon import paper_scenario
 PROBE = Path(__file__).resolve().with_name("icons_probe.py")
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
 ICONS = {"Carrier": "WaferScan_Carrier.svg", "Scanner": "WaferScan_Scanner.svg",
-         "ScanSettings": "WaferScan_ScanSettings.svg"}
+         "ScanSettings": "WaferScan_ScanSettings.svg", "Wafer": "WaferScan_Wafer.svg"}
 
 
 @pytest.fixture(scope="module")
@@ -41,3 +41,11 @@ def test_a_document_built_headless_opens_with_everything_shown(icons):
     shown = icons["headless_shown"]
     assert shown == {"LP1 assembly": [True, True], "Robot": [True, True],
                      "LP1_W01": [True, True], "LP1_W02": [False, False]}, shown
+
+
+def test_the_wafers_tree_items_show_the_wafer_icon_not_parts_cylinder(icons):
+    # Issue 27 (item 15): the flat wafers WaferScan builds were Part::Cylinders, whose tree
+    # items showed Part's cylinder icon. Each item's icon, pixel for pixel: [its view object's
+    # (the wafer role's icon: test above), Part's cylinder's].
+    assert icons["gui_built"]["Wafer"][:2] == ["ViewProviderRole", "WaferScan_Wafer.svg"]
+    assert icons["tree_icons"] == {"LP1_W01": [True, False], "LP1_W04": [True, False]}
