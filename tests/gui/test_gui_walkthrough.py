@@ -48,6 +48,10 @@ def test_tag_as_wafer_splits_and_tags_the_ten_wafers(walk):
     assert "compound of" in result["split_question"][0]
     assert result["wafers"] == 10
     assert "tagged 10 as wafers" in result["wafer_message"][0]
+    # What the guide quotes: the 66 others skipped, with why, the first ten in the message.
+    message = result["wafer_message"][0]
+    assert "Skipped 66, not wafer-like (selected now):\n• paper-cell solid 1: " in message
+    assert "• and 56 more (the report view lists them all)" in message, message
 
 
 def test_make_carrier_gathers_the_walls_and_ledges(walk):
@@ -82,3 +86,16 @@ def test_the_cell_scans_to_the_papers_code_in_the_gui_and_headless(walk):
 def test_screenshots_of_each_step(walk):
     for name in SHOTS:
         assert (ARTIFACTS / name).stat().st_size > 1000, name
+
+
+def test_each_step_is_one_recorded_line_in_order(walk):
+    result, _ = walk
+    calls = [c.split("(", 1)[0].replace("waferscan.gui.commands.", "")
+             for c in result["console_calls"]]
+    # From the demo's "New paper layout" on: what the newcomer did, a line a step.
+    assert calls[calls.index("tag_selection"):] == [
+        "tag_selection", "make_carrier_from_solids", "tag_selection", "open_frames_panel",
+        "set_frames", "run_scan"], calls
+    tags = [c for c in result["console_calls"] if "tag_selection(" in c]
+    assert tags[0].startswith("waferscan.gui.commands.tag_selection('wafer', ")
+    assert tags[1].startswith("waferscan.gui.commands.tag_selection('scanner', ")

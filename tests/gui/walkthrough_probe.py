@@ -53,6 +53,17 @@ def shot(name):
     window_shot(name, dock_width=264)
 
 
+def shot_then(name, step):
+    """A screenshot once the tree has caught up with the selection (it follows on a timer),
+    then ``step``."""
+
+    def take():
+        shot(name)
+        step()
+
+    later(take, 400)
+
+
 def import_preferences():
     """FreeCAD's STEP import preferences as a fresh user has them (unset: the defaults)."""
     group = App.ParamGet("User parameter:BaseApp/Preferences/Mod/Import")
@@ -92,8 +103,7 @@ def begin():
     state["doc"] = doc
     result["imported"] = [(o.TypeId, len(o.Shape.Solids)) for o in doc.Objects
                           if hasattr(o, "Shape")]
-    shot("gui-walkthrough-1-imported.png")
-    later(tag_wafers, 200)
+    shot_then("gui-walkthrough-1-imported.png", tag_wafers)
 
 
 def tag_wafers():
@@ -112,12 +122,7 @@ def tag_wafers():
     skipped = Gui.Selection.getSelection()
     result["skipped_selected"] = len(skipped)
     state["skipped"] = skipped
-    shot("gui-walkthrough-2-wafers.png")
-    later(make_carrier, 200)
-
-
-def inside(box, outer):
-    return outer.isInside(box) if hasattr(outer, "isInside") else False
+    shot_then("gui-walkthrough-2-wafers.png", make_carrier)
 
 
 def make_carrier():
@@ -145,8 +150,7 @@ def make_carrier():
     carriers = [o for o in doc.Objects if getattr(o, "WaferScanRole", "") == "Carrier"]
     result["carriers"] = [(o.TypeId, len(o.Group)) for o in carriers]
     state["carrier"] = carriers[0]
-    shot("gui-walkthrough-3-carrier.png")
-    later(tag_scanner, 200)
+    shot_then("gui-walkthrough-3-carrier.png", tag_scanner)
 
 
 def tag_scanner():
