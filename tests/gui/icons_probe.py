@@ -3,9 +3,10 @@
 # GUI has them from the start.
 import os
 import sys
+import time
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import finish, result, start, window_shot  # noqa: E402
+from probe_steps import artifact, finish, result, start, window_shot  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -18,29 +19,55 @@ def same_image(icon, path):
     return not icon.isNull() and not QtGui.QIcon(path).pixmap(16, 16).isNull()
 
 
-def image_bytes(icon):
-    """The icon drawn at the tree's 16 px, as bytes to compare."""
-    image = icon.pixmap(16, 16).toImage().convertToFormat(QtGui.QImage.Format_ARGB32)
-    return bytes(image.constBits()) if hasattr(image, "constBits") else image.bits().tobytes()
+def image_of(icon):
+    """The icon drawn at the tree's 16 px, as 32-bit ARGB."""
+    return icon.pixmap(16, 16).toImage().convertToFormat(QtGui.QImage.Format_ARGB32)
 
 
-def tree_icons(doc, labels):
-    """{label: [whether its tree item draws its view object's icon, whether it draws Part's
-    cylinder icon]}, pixel for pixel (a Part::Cylinder's icon taken from one made for it)."""
-    probe = doc.addObject("Part::Cylinder", "IconProbeCylinder")
-    doc.recompute()
-    Gui.updateGui()
-    cylinder = image_bytes(probe.ViewObject.Icon)
+def difference(a, b):
+    """The mean difference of two 16 px icons' colour channels, alpha-weighted, 0 to 255."""
+    total = 0.0
+    for y in range(16):
+        for x in range(16):
+            pa, pb = QtGui.QColor.fromRgba(a.pixel(x, y)), QtGui.QColor.fromRgba(b.pixel(x, y))
+            total += sum(abs(ca * pa.alphaF() - cb * pb.alphaF()) for ca, cb in
+                         ((pa.red(), pb.red()), (pa.green(), pb.green()), (pa.blue(), pb.blue())))
+            total += abs(pa.alpha() - pb.alpha())
+    return total / (16 * 16 * 4)
+
+
+def tree_items(doc):
+    """{label: the tree's item} of the document's objects."""
     found = {}
     for tree in Gui.getMainWindow().findChildren(QtGui.QTreeWidget):
         if tree.metaObject().className() != "Gui::TreeWidget":
             continue
-        items = tree.findItems("", QtCore.Qt.MatchContains | QtCore.Qt.MatchRecursive, 0)
-        for item in items:
-            if item.text(0) in labels:
-                drawn = image_bytes(item.icon(0))
-                own = image_bytes(doc.getObjectsByLabel(item.text(0))[0].ViewObject.Icon)
-                found[item.text(0)] = [drawn == own, drawn == cylinder]
+        for item in tree.findItems("", QtCore.Qt.MatchContains | QtCore.Qt.MatchRecursive, 0):
+            found[item.text(0)] = item
+    return found
+
+
+def tree_icons(doc, labels):
+    """{label: [how far its tree item's icon is from the wafer's SVG, how far from the icon
+    of a Part::Cylinder's tree item]} (mean channel difference, 0 to 255), the icons saved
+    beside the screenshots to look at."""
+    from waferscan.addon import icon_path
+    wafer = image_of(QtGui.QIcon(icon_path("WaferScan_Wafer.svg")))
+    probe = doc.addObject("Part::Cylinder", "IconProbeCylinder")
+    probe.Label = "IconProbeCylinder"
+    doc.recompute()
+    deadline = time.monotonic() + 5.0  # the tree adds its items on a timer
+    while "IconProbeCylinder" not in tree_items(doc) and time.monotonic() < deadline:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.02)
+    items = tree_items(doc)
+    cylinder = image_of(items["IconProbeCylinder"].icon(0))
+    cylinder.save(artifact("gui-icon-tree-cylinder.png"))
+    found = {}
+    for label in labels:
+        drawn = image_of(items[label].icon(0))
+        drawn.save(artifact(f"gui-icon-tree-{label}.png"))
+        found[label] = [round(difference(drawn, wafer), 1), round(difference(drawn, cylinder), 1)]
     doc.removeObject(probe.Name)
     return found
 

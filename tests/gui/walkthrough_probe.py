@@ -98,7 +98,9 @@ def begin():
         result["compound_made_from_file"] = True
         App.closeDocument(doc.Name)
         doc = App.newDocument("PaperCell")
-        doc.addObject("Part::Feature", "paper_cell").Shape = Part.read(STEP_FILE)
+        merged = doc.addObject("Part::Feature", "paper_cell")
+        merged.Label = "paper-cell"  # as 0.20.2 names it: after the file
+        merged.Shape = Part.read(STEP_FILE)
         doc.recompute()
     state["doc"] = doc
     result["imported"] = [(o.TypeId, len(o.Shape.Solids)) for o in doc.Objects
