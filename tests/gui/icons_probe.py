@@ -20,8 +20,15 @@ def same_image(icon, path):
 
 
 def image_of(icon):
-    """The icon drawn at the tree's 16 px, as 32-bit ARGB."""
-    return icon.pixmap(16, 16).toImage().convertToFormat(QtGui.QImage.Format_ARGB32)
+    """The icon drawn at the tree's 16 px, as 32-bit ARGB. FreeCAD 1.0's tree draws an item's
+    status (its visibility's eye) left of its own icon, in one wider icon: the object's icon is
+    then its rightmost 16 px square."""
+    size = icon.actualSize(QtCore.QSize(256, 16))
+    pixmap = icon.pixmap(size)
+    if pixmap.width() > pixmap.height():
+        pixmap = pixmap.copy(pixmap.width() - pixmap.height(), 0, pixmap.height(),
+                             pixmap.height())
+    return pixmap.scaled(16, 16).toImage().convertToFormat(QtGui.QImage.Format_ARGB32)
 
 
 def difference(a, b):

@@ -65,11 +65,10 @@ def shot_then(name, step):
 
 
 def import_preferences():
-    """FreeCAD's STEP import preferences as a fresh user has them (unset: the defaults)."""
+    """FreeCAD's STEP import preferences a user has set (none for a fresh user: FreeCAD's
+    defaults hold)."""
     group = App.ParamGet("User parameter:BaseApp/Preferences/Mod/Import")
-    return {"ReadShapeCompoundMode": group.GetBool("ReadShapeCompoundMode", True),
-            "UseLinkGroup": group.GetBool("UseLinkGroup", True),
-            "set": sorted(group.GetBools())}
+    return {"set": sorted(group.GetBools() + group.GetInts() + group.GetStrings())}
 
 
 def begin():
