@@ -1,7 +1,8 @@
 """Bowed wafers drawn bowed (SPEC §10, issue 14): a bowed wafer's document object has the bowed
 solid as its shape (checked against the paraboloid with independent ray-shape geometry), reads
-back as the same wafer, scans as the layout does, survives saving; flat wafers stay
-Part::Cylinders; a document made before (a flat cylinder carrying Bow) reads the same."""
+back as the same wafer, scans as the layout does, survives saving; flat wafers are Python
+features drawing a plain cylinder (issue 27: the wafer's icon in the tree); documents made
+before (a flat cylinder carrying Bow, flat wafers as Part::Cylinders) read the same."""
 
 import math
 from dataclasses import replace
@@ -51,10 +52,8 @@ def test_a_bowed_wafer_is_drawn_as_the_paraboloid(doc):
         solid = obj.Shape.copy()
         solid.Placement = obj.getGlobalPlacement()  # in its carrier's App::Part
         t, bow, z0 = wafer.thickness, wafer.bow, wafer.center[2]
-        if bow:
-            assert obj.TypeId == "Part::FeaturePython"
-        else:
-            assert obj.TypeId == "Part::Cylinder"
+        assert obj.TypeId == "Part::FeaturePython"
+        assert type(obj.Proxy).__name__ == ("BowedWafer" if bow else "Wafer")
         # Through the centre the wafer spans [bow, bow + t] above the rim's bottom; at the rim
         # [0, t]; halfway out the paraboloid's 3/4 of the bow.
         centre = wafer.center
@@ -67,8 +66,8 @@ def test_a_bowed_wafer_is_drawn_as_the_paraboloid(doc):
         assert box.ZMin == pytest.approx(z0 + min(0.0, bow), abs=1e-7)
         assert box.ZMax == pytest.approx(z0 + t + max(0.0, bow), abs=1e-7)
         assert box.XLength == pytest.approx(wafer.diameter, abs=1e-7)
-    flat = [doc.getObject(w.name).TypeId for w in layout.wafers[2:]]
-    assert flat == ["Part::Cylinder"] * len(flat)
+    flat = [type(doc.getObject(w.name).Proxy).__name__ for w in layout.wafers[2:]]
+    assert flat == ["Wafer"] * len(flat)
 
 
 def test_it_reads_back_as_the_same_wafer_and_scans_as_the_layout(doc):
@@ -155,11 +154,15 @@ def test_it_survives_saving_and_an_edited_bow_redraws(doc, tmp_path):
         App.closeDocument(reopened.Name)
 
 
-def test_flat_layouts_are_built_as_before():
+def test_flat_wafers_are_wafer_features_drawing_a_plain_cylinder():
     made = build_document(PAPER, "FlatAsBefore")
     try:
-        kinds = {made.getObject(w.name).TypeId for w in PAPER.wafers}
-        assert kinds == {"Part::Cylinder"}
+        # Flat wafers: a Python feature (its own icon in the tree) drawing a plain cylinder.
+        kinds = {(made.getObject(w.name).TypeId, type(made.getObject(w.name).Proxy).__name__)
+                 for w in PAPER.wafers}
+        assert kinds == {("Part::FeaturePython", "Wafer")}
+        shape = made.getObject(PAPER.wafers[0].name).Shape
+        assert [type(f.Surface).__name__ for f in shape.Faces] == ["Cylinder", "Plane", "Plane"]
         assert not any("Bow" in made.getObject(w.name).PropertiesList for w in PAPER.wafers)
         assert math.isclose(made.getObject(PAPER.wafers[0].name).Height.Value, 0.7)
     finally:
@@ -175,3 +178,34 @@ def test_a_bowed_wafer_can_be_tagged_again(doc):
     obj.Bow = 1.0  # its shape not recomputed: not the wafer its Bow says
     with pytest.raises(NotADisc, match="recompute"):
         tag_wafer(obj)
+
+
+def test_a_document_made_before_with_flat_part_cylinders_reads_and_scans_the_same():
+    made = build_document(PAPER, "FlatCylinders")
+    try:
+        before = read_layout(made)
+        code = scan_document(made).code
+        # As the builder made flat wafers before they were Python features.
+        for wafer in PAPER.wafers:
+            new = made.getObject(wafer.name)
+            part = new.getParentGeoFeatureGroup()
+            old = made.addObject("Part::Cylinder", wafer.name + "_old")
+            old.Radius, old.Height, old.Placement = new.Radius, new.Height, new.Placement
+            old.addProperty("App::PropertyString", "WaferScanRole", "WaferScan")
+            old.WaferScanRole = new.WaferScanRole
+            made.removeObject(wafer.name)
+            old.Label = wafer.name
+            part.addObject(old)
+        made.recompute()
+        after = read_layout(made)
+        assert {o.TypeId for o in made.Objects if getattr(o, "WaferScanRole", "") == "Wafer"} \
+            == {"Part::Cylinder"}
+        by_name = {w.name: w for w in after.wafers}
+        for b in before.wafers:
+            a = by_name[b.name]
+            assert a.center == pytest.approx(b.center, abs=1e-9)
+            assert a.normal == pytest.approx(b.normal, abs=1e-12)
+            assert a.thickness == pytest.approx(b.thickness, abs=1e-12)
+        assert scan_document(made).code == code
+    finally:
+        App.closeDocument(made.Name)

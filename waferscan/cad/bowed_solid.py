@@ -13,8 +13,8 @@ The document object (``BowedWafer``, a Part::FeaturePython) has a Part::Cylinder
 Height and Placement and the wafer's ``Bow``; its shape is this solid, so the 3D view shows the
 bow. The reader gets the same wafer from it as from a flat cylinder carrying ``Bow`` (documents
 made before this object): ``bowed_disc_of`` reads the centre, normal, diameter and thickness off
-the solid's cylindrical rim and checks the solid's bow against the property (disc.py). Flat wafers stay
-Part::Cylinders.
+the solid's cylindrical rim and checks the solid's bow against the property (disc.py). Flat
+wafers are ``features.Wafer`` objects, with the same Radius, Height and Placement.
 """
 
 from __future__ import annotations
@@ -238,11 +238,4 @@ class BowedWafer(features._Proxy):
 
 def make_bowed_wafer(doc, label, radius, thickness):
     """A BowedWafer object labelled ``label``; the caller adds its Bow and role."""
-    obj = features.add_named(doc, "Part::FeaturePython", label)
-    for name, value, tip in (("Radius", radius, "Radius of the wafer's rim"),
-                             ("Height", thickness, "Thickness of the wafer along its normal")):
-        obj.addProperty("App::PropertyLength", name, "Wafer", tip)
-        setattr(obj, name, value)
-    BowedWafer(obj)
-    return obj
-
+    return features.make_wafer(doc, label, radius, thickness, BowedWafer)

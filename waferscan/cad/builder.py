@@ -20,7 +20,8 @@ def carrier_placement(carrier):
 
 
 def wafer_placement(wafer):
-    """A Part::Cylinder's placement for a wafer: origin at its bottom-face centre, Z its normal."""
+    """A wafer object's placement (a Part::Cylinder's): origin at its bottom-face centre, Z its
+    normal."""
     return App.Placement(App.Vector(*wafer.center),
                          App.Rotation(App.Vector(0, 0, 1), App.Vector(*wafer.normal)))
 
@@ -59,16 +60,15 @@ def unchecked_labels():
 
 
 def add_wafer(doc, wafer, container=None, frame=None):
-    """A wafer as a Part::Cylinder with the wafer role (a bowed one as a BowedWafer, drawn
-    bowed); ``frame`` is the container's placement."""
+    """A wafer with the wafer role, placed as a Part::Cylinder is: a flat one as a
+    ``features.Wafer``, a bowed one as a BowedWafer, drawn bowed; ``frame`` is the container's
+    placement."""
     if wafer.bow:
         from .bowed_solid import make_bowed_wafer
 
         obj = make_bowed_wafer(doc, wafer.name, wafer.radius, wafer.thickness)
     else:
-        obj = features.add_named(doc, "Part::Cylinder", wafer.name)
-        obj.Radius = wafer.radius
-        obj.Height = wafer.thickness
+        obj = features.make_wafer(doc, wafer.name, wafer.radius, wafer.thickness)
     placement = wafer_placement(wafer)
     obj.Placement = placement if frame is None else frame.inverse().multiply(placement)
     roles.set_role(obj, roles.WAFER)

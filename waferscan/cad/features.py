@@ -219,6 +219,29 @@ class ScanSettings(_Proxy):
             obj.RangeFromCarrier = False
 
 
+class Wafer(_Proxy):
+    """A flat wafer: the disc of its Radius and Height, placed by its Placement as a
+    Part::Cylinder is (origin at its bottom face's centre, Z its normal). A Python feature
+    rather than a Part::Cylinder so that the tree shows it with the wafer's icon: FreeCAD 0.20
+    lets Python give a view provider (and so an icon) only to Python features."""
+
+    def execute(self, obj):
+        obj.Shape = Part.makeCylinder(float(obj.Radius), float(obj.Height))
+
+
+def make_wafer(doc, label, radius, thickness, proxy=Wafer):
+    """A wafer object labelled ``label`` with a Part::Cylinder's ``Radius`` and ``Height``
+    (``proxy``: ``Wafer`` for a flat one, ``BowedWafer`` for a bowed one); the caller places it
+    and gives it its role."""
+    obj = add_named(doc, "Part::FeaturePython", label)
+    for name, value, tip in (("Radius", radius, "Radius of the wafer's rim"),
+                             ("Height", thickness, "Thickness of the wafer along its normal")):
+        obj.addProperty("App::PropertyLength", name, "Wafer", tip)
+        setattr(obj, name, value)
+    proxy(obj)
+    return obj
+
+
 def make_carrier(doc, name, slot_count, pitch, wafer_diameter, wafer_thickness, support_span):
     obj = add_named(doc, "Part::FeaturePython", name)
     CarrierBody(obj)

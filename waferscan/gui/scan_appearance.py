@@ -163,8 +163,17 @@ class BeamOverlay:
         self.root.removeChild(self.node)
 
 
-# Part's primitives, always one closed solid facing out (the wafers are Part::Cylinder).
+# Part's primitives, always one closed solid facing out (wafers built before WaferScan gave
+# them its own Python feature are Part::Cylinders).
 CLOSED_PRIMITIVES = ("Part::Box", "Part::Cylinder", "Part::Sphere", "Part::Cone", "Part::Torus")
+
+
+def _closed_by_make(obj):
+    """Whether ``obj`` is one closed solid by the way it is made: one of Part's primitives, or
+    a flat wafer WaferScan built (``features.Wafer``, a cylinder)."""
+    from ..cad.features import Wafer
+
+    return obj.TypeId in CLOSED_PRIMITIVES or type(getattr(obj, "Proxy", None)) is Wafer
 
 
 def opaque_closed_solids(doc):
@@ -185,7 +194,7 @@ def opaque_closed_solids(doc):
             continue
         try:
             shape = obj.Shape
-            if obj.TypeId in CLOSED_PRIMITIVES:  # a wafer: checking costs ~0.09 ms each
+            if _closed_by_make(obj):  # a wafer: checking costs ~0.09 ms each
                 closed = not shape.isNull()
             else:
                 solids = shape.Solids

@@ -1,4 +1,4 @@
-"""View providers of WaferScan's own document objects (carrier body, scanner beam, scan
+"""View providers of WaferScan's own document objects (wafers, carrier body, scanner beam, scan
 settings): each shows its role's icon in the tree. As Draft does, they are attached only when
 the GUI is up: when such an object is made in a GUI session, and when a document saved without
 them (built headless, by the command line or a script) is opened in the GUI.
