@@ -8,11 +8,17 @@ import sys
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import finish, later, result, scan_scenario, start, wait_for  # noqa: E402
 
-PHASE = os.environ["WAFERSCAN_GUI_QUIT_IN"]  # "stroke" or "pockets"
+PHASE = os.environ["WAFERSCAN_GUI_QUIT_IN"]  # "stroke", "pockets" or "idle" (no scan)
 
 
 def begin():
     from waferscan.gui.session import session
+    if PHASE == "idle":  # the document open, nothing playing: FreeCAD's own quit
+        from waferscan.gui.commands import open_scenario
+        open_scenario(os.environ["WAFERSCAN_GUI_SCENARIO"])
+        result["playing"], result["frame"] = False, 0
+        later(finish, 500)
+        return
     animation = scan_scenario(steps_per_frame=5 if PHASE == "stroke" else 500)
     if PHASE == "stroke":
         wait_for("the stroke under way", lambda: animation.k > 20,
