@@ -45,6 +45,17 @@ def answer_next_question(button_text, log):
     QtCore.QTimer.singleShot(50, answer)
 
 
+def imported(doc, name):
+    """The object the STEP import made of the product ``name``: 0.20.2 labels the product's
+    compound ``name``; 1.0 makes an App::Part labelled ``name`` and a number and gives ``name``
+    to the first solid in it. The one holding the most solids is the product."""
+    import Part
+    import re as _re
+
+    found = [o for o in doc.Objects if _re.fullmatch(_re.escape(name) + r"\d*", o.Label)]
+    return max(found, key=lambda o: len(Part.getShape(o).Solids))
+
+
 def instance(doc, label):
     from waferscan.cad.scene import scene_instances
     return next(i for i in scene_instances(doc) if i.obj.Label == label)
@@ -115,8 +126,9 @@ def begin():
     by_label = {o.Label: o for o in doc.Objects}
     result["imported_labels"] = sorted(by_label)
     wafers = [o for label, o in by_label.items() if re.fullmatch(r"W\d\d", label)]
-    for objects, command in ((wafers, "WaferScan_TagWafer"), ([by_label["Foup"]],
-                             "WaferScan_TagCarrier"), ([by_label["Sensor"]],
+    state["carrier"], state["sensor"] = imported(doc, "Foup").Label, imported(doc, "Sensor").Label
+    for objects, command in ((wafers, "WaferScan_TagWafer"), ([by_label[state["carrier"]]],
+                             "WaferScan_TagCarrier"), ([by_label[state["sensor"]]],
                                                        "WaferScan_TagScanner")):
         Gui.Selection.clearSelection()
         for obj in objects:
@@ -129,8 +141,13 @@ def begin():
         result.setdefault("questions", []).extend(questions)
     Gui.Selection.clearSelection()
     result["tag_messages"] = message_texts()
-    carrier = instance(doc, "Foup")
+    carrier = instance(doc, state["carrier"])
     result["carrier_turned_deg"] = carrier.placement().Rotation.Angle * 180 / 3.141592653589793
+    result["freecad_major"] = int(App.Version()[0])
+    for key, label in (("carrier_placement", state["carrier"]), ("sensor_placement",
+                                                                  state["sensor"])):
+        placed = instance(doc, label).placement()
+        result[key] = [list(placed.Base), list(placed.Rotation.Q)]
     result["undo_before"] = list(doc.UndoNames)
     Gui.runCommand("WaferScan_SetFrames")
     from waferscan.gui.session import session
@@ -196,7 +213,7 @@ def own(obj, name):
 
 def document_values(doc):
     by_label = {o.Label: o for o in doc.Objects}
-    carrier, scanner = by_label["Foup"], by_label["Sensor"]
+    carrier, scanner = by_label[state["carrier"]], by_label[state["sensor"]]
     return {"SlotCount": own(carrier, "SlotCount"), "Pitch": own(carrier, "Pitch"),
             "SlotOrigin": own(carrier, "SlotOrigin"), "Emitter": own(scanner, "Emitter"),
             "Receiver": own(scanner, "Receiver")}

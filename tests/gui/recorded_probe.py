@@ -30,6 +30,8 @@ def replay_line(line):
     asked = []
 
     def watch():
+        if not state.get("replaying"):  # a check still queued when the line had run
+            return
         box = QtGui.QApplication.activeModalWidget()
         if box is not None:
             asked.append(box.text() if isinstance(box, QtGui.QMessageBox) else str(box))
@@ -129,13 +131,15 @@ def retag(doc):
     message_texts()
     lines = [c for c in calls("tag_selection") if "('scanner'" in c]
     made = [wafer.WaferScanRole, list(doc.UndoNames)[:1]]
+    result["retag_undo_names"] = list(doc.UndoNames)
     doc.undo()
-    undone = wafer.WaferScanRole
+    undone = getattr(wafer, "WaferScanRole", None)
     replayed = replay_line(lines[-1]) if lines else (None, "no line")
     message_texts()
     result["retag"] = {"calls": lines, "questions": result.get("questions", [])[asked:],
                        "made": made, "undone": undone, "replay": replayed,
-                       "replayed": [wafer.WaferScanRole, list(doc.UndoNames)[:1]]}
+                       "replayed": [getattr(wafer, "WaferScanRole", None),
+                                    list(doc.UndoNames)[:1]]}
 
 
 # --- the scan panel's Recipe and Sensor Apply ---------------------------------------------
