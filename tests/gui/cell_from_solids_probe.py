@@ -238,7 +238,13 @@ def first_scanned():
     # The carrier's slots described: the range follows.
     state["carrier"].SlotCount = 10
     doc.recompute()
-    from waferscan.gui.scanning import scan_and_store
+    from waferscan.gui.scanning import result_now, scan_and_store
+    # What only reads the document (Results table, Slot code, Cross-check) leaves it as it is.
+    undo_before = list(doc.UndoNames)
+    seen = result_now(doc)
+    result["read_only"] = {"range": [seen.layout.scan.start_z, seen.layout.scan.final_z],
+                           "stored": [settings.StartZ.Value, settings.FinalZ.Value],
+                           "undo_same": list(doc.UndoNames) == undo_before}
     _, second = scan_and_store(doc)
     result["second"] = {"range": [second.layout.scan.start_z, second.layout.scan.final_z],
                         "code": second.code,

@@ -179,6 +179,14 @@ def pick():
     result["seat_derived"] = texts(panel.points["seat"])
     for key, point in (("emitter", EMITTER_CLICK), ("receiver", RECEIVER_CLICK)):
         panel.points[key].pick.click()
+        if key == "emitter":  # a click in the tree first: no point, the pick waits
+            before = texts(panel.points[key])
+            Gui.Selection.clearSelection()
+            Gui.Selection.addSelection(doc.Name, instance(doc, state["sensor"]).root.Name)
+            result["tree_click"] = {"unchanged": texts(panel.points[key]) == before,
+                                    "still_picking": panel.picking == key,
+                                    "status": panel.status.text()}
+            Gui.Selection.clearSelection()
         click(doc, "Sensor", "Face1", point)
         result[f"{key}_picked"] = texts(panel.points[key])
     window_shot("gui-frames-picked.png", dock_width=264)

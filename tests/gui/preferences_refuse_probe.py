@@ -102,6 +102,22 @@ def refuse():
 
     open_page(bad_then_good)
     result["stored_good"] = stored()
+    later(stored_by_hand, 50)
+
+
+def stored_by_hand():
+    """A bad value set by hand in the parameter editor: marked when the page opens, but OK
+    (for every page of the dialog) waits only once this page is edited."""
+    App.ParamGet(PARAMETERS).SetFloat("PositionTolerance", -1.0)
+
+    def look(dialog):
+        result["hand_page"] = page_state(dialog)
+        dialog.findChild(QtGui.QLineEdit, "ThresholdOff").setText("0,45")
+        QtGui.QApplication.processEvents()
+        result["hand_edited_page"] = page_state(dialog)
+        buttons(dialog)["Cancel"].click()
+
+    open_page(look)
     finish()
 
 

@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    artifact, console_calls, finish, later, result, start, wait_for, window_shot)
+    artifact, console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -96,6 +96,10 @@ def dialogs():
         QtGui.QFileDialog.getSaveFileName = asked
     result["csv"] = csv_path
     result["console_calls"] = console_calls()
+    # Into a folder that does not exist: said to the user, no traceback, nothing written.
+    from waferscan.gui.commands import export_results_csv
+    result["bad_export"] = [export_results_csv(App.ActiveDocument, "/no-such-folder/r.csv"),
+                            message_texts()]
     result["state_colours"] = [table.table.item(r, 6).background().color().name()
                                for r in range(table.table.rowCount())]
     result["dialog_code"] = dialog.code_label.text()

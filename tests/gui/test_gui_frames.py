@@ -114,6 +114,14 @@ def test_the_beams_ends_are_picked_in_the_3d_view(gui):
     assert "Then click" not in result["status_bar_after_picks"]  # done: the hint is gone
 
 
+def test_a_click_in_the_tree_while_picking_gives_no_point_and_the_pick_waits(gui):
+    """A tree click selects a whole object and FreeCAD hands (0, 0, 0) as its point: the
+    emitter became the origin."""
+    tree = gui[0]["tree_click"]
+    assert tree["unchanged"] and tree["still_picking"]
+    assert "click the point in the 3D view" in tree["status"]
+
+
 def test_the_panel_fits_the_default_combo_view_with_every_line_shown(gui):
     result, _ = gui
     assert result["clipped_labels"] == []

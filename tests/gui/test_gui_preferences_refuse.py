@@ -52,5 +52,14 @@ def test_corrected_with_a_decimal_comma_ok_stores_only_the_edits(gui):
                                   "SensorResponse": pytest.approx(0.0005)}
 
 
+def test_a_bad_value_stored_by_hand_is_marked_but_blocks_ok_only_once_the_page_is_edited(gui):
+    """It greyed OK for the whole preferences dialog (every page) until it was corrected."""
+    page = gui["hand_page"]
+    assert page["fields"]["PositionTolerance"]["red"] is True
+    assert page["ok_enabled"] is True and "not used" in page["problem"]
+    edited = gui["hand_edited_page"]
+    assert edited["ok_enabled"] is False and "need" in edited["problem"]
+
+
 def test_screenshot_saved():
     assert SHOT.stat().st_size > 1000

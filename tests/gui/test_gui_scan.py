@@ -145,3 +145,10 @@ def test_export_csv_is_a_recorded_line(gui):
     assert len(exports) == 1, gui["console_calls"]
     assert exports[0].startswith("waferscan.gui.commands.export_results_csv(App.getDocument(")
     assert exports[0].endswith(f", {gui['csv']!r})")
+
+
+def test_an_export_that_cannot_be_written_is_a_message(gui):
+    written, messages = gui["bad_export"]
+    assert written is None
+    assert any("Export CSV: nothing written" in m and "no folder /no-such-folder" in m
+               for m in messages), messages

@@ -80,7 +80,7 @@ def why_not_a_wafer(obj, diameters=None):
         diameter, thickness = wafer_disc(obj)
     except NotADisc as exc:
         return str(exc).replace(f"{obj.Label} is not a wafer: ", "", 1)
-    return wafer_like(diameter, thickness, *(() if diameters is None else (diameters,)))
+    return wafer_like(diameter, thickness, diameters)
 
 
 def tag_wafer(obj):

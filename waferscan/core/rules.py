@@ -85,10 +85,10 @@ DIAMETER_MARGIN = 1.0  # mm either side of a size
 MIN_ASPECT = 20.0  # diameter / thickness; a 300 mm wafer's is 387, a 100 mm one's 190
 
 
-def wafer_like(diameter, thickness, diameters=SEMI_DIAMETERS, margin=DIAMETER_MARGIN):
+def wafer_like(diameter, thickness, diameters=None, margin=DIAMETER_MARGIN):
     """Why a disc of ``diameter`` and ``thickness`` (mm) is not taken for a wafer, or None
     when it is: its diameter at least ``MIN_ASPECT`` times its thickness, and within
-    ``margin`` of one of ``diameters`` (the SEMI sizes, or the sizes the user gives).
+    ``margin`` of one of ``diameters`` (the sizes the user gives; None: the SEMI sizes).
 
     >>> wafer_like(300.0, 0.7) is None, wafer_like(200.2, 0.725) is None
     (True, True)
@@ -102,6 +102,7 @@ def wafer_like(diameter, thickness, diameters=SEMI_DIAMETERS, margin=DIAMETER_MA
     if not diameter >= MIN_ASPECT * thickness:
         return (f"a cylinder {diameter:g} mm across and {thickness:g} mm high: a wafer is at "
                 f"least {MIN_ASPECT:g} times as wide as thick")
+    diameters = SEMI_DIAMETERS if diameters is None else diameters
     if not any(abs(diameter - size) <= margin for size in diameters):
         sizes = ", ".join(f"{size:g}" for size in diameters)
         return f"a disc {diameter:g} mm across: not a wafer size ({sizes} mm, ± {margin:g} mm)"

@@ -10,7 +10,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..core.errors import InputError, WaferScanError
-from .qt import alive
+from .qt import alive, fitted_size
 from .scanning import result_now
 from .session import check_no_other_task_panel, report, session, show_task_panel, transaction
 
@@ -67,10 +67,8 @@ class _ClosedDocuments:
 def fit_screen(dialog, margin=(40, 80)):
     """Shrink a dialog to the screen the main window is on (1024×700 included), less a
     margin for the window frame and the desktop's panels."""
-    screen = QtGui.QApplication.desktop().availableGeometry(Gui.getMainWindow())
     size = dialog.size()
-    dialog.resize(min(size.width(), screen.width() - margin[0]),
-                  min(size.height(), screen.height() - margin[1]))
+    dialog.resize(*fitted_size(size.width(), size.height(), margin))
 
 
 def cross_check(doc):
@@ -207,11 +205,10 @@ def open_tolerance_study(input_path="", **settings):
     return open_study(input_path, **settings)
 
 
-
 def open_mcs_panel(doc, folder=None):
     """The MCS link's task panel on ``doc``, on ``folder`` (None: the preferences' folder).
     Returns the panel."""
-    from .mcs_panel import McsTaskPanel  # the link's modules load when first opened
+    from .mcs_panel import McsTaskPanel  # below commands, which imports this module
 
     check_no_other_task_panel()
     return show_task_panel(McsTaskPanel(doc, folder, show_results_dialogs))

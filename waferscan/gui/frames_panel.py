@@ -14,7 +14,7 @@ from ..addon import icon_path
 from ..cad import carrier_geometry, roles
 from ..cad.reader import DocumentScene
 from ..core.errors import InputError, WaferScanError
-from .inputs import format_length, length_input
+from .inputs import format_length, length_input, value_in
 from .qt import ClosableTaskPanel
 from .session import (check_no_other_task_panel, doc_ref, record, report, show_task_panel,
                       transaction)
@@ -37,13 +37,6 @@ PICK_TIPS = {
 }
 
 
-def _mm(quantity):
-    """A length given as an App.Units.Quantity (any unit) or a number of mm, in mm."""
-    if hasattr(quantity, "getValueAs"):
-        return float(quantity.getValueAs("mm"))
-    return float(quantity)
-
-
 def set_frames(doc, carrier=None, slot_count=None, pitch=None, seat=None, front=None,
                scanner=None, emitter=None, receiver=None):
     """Set the carrier's slots (``slot_count``, ``pitch``, slot 1's ``seat``, and the ``front``
@@ -53,13 +46,13 @@ def set_frames(doc, carrier=None, slot_count=None, pitch=None, seat=None, front=
     if carrier is not None:
         if slot_count is None or int(slot_count) < 1:
             raise InputError(carrier.Label, None, "give the carrier at least one slot")
-        if pitch is None or _mm(pitch) <= 0.0:
+        if pitch is None or value_in(pitch, "mm", "pitch") <= 0.0:
             raise InputError(carrier.Label, None, "the pitch must be more than 0")
     if scanner is not None and (App.Vector(emitter) - App.Vector(receiver)).Length == 0.0:
         raise InputError(scanner.Label, None, "the beam's emitter and receiver coincide")
     with transaction(doc, UNDO_NAME):
         if carrier is not None:
-            carrier_geometry.set_slot_frame(carrier, int(slot_count), _mm(pitch), seat, front)
+            carrier_geometry.set_slot_frame(carrier, int(slot_count), value_in(pitch, "mm", "pitch"), seat, front)
         if scanner is not None:
             carrier_geometry.set_beam_ends(scanner, emitter, receiver)
     doc.recompute()
@@ -83,7 +76,7 @@ def set_frames_call(doc, carrier=None, slot_count=None, pitch=None, seat=None, f
     ref = doc_ref(doc)
     arguments = [ref]
     if carrier is not None:
-        mm = float(pitch.getValueAs("mm")) if hasattr(pitch, "getValueAs") else float(pitch)
+        mm = value_in(pitch, "mm", "pitch")
         arguments += [f"carrier={ref}.getObject({carrier.Name!r})",
                       f"slot_count={int(slot_count)}",
                       f"pitch=App.Units.Quantity('{mm!r} mm')", f"seat={_vector_ref(seat)}"]
@@ -269,6 +262,13 @@ class FramesTaskPanel(ClosableTaskPanel):
         key = self.picking
         if key is None or doc_name != self.doc.Name or not self.is_open():
             return
+        # A click in the tree selects a whole object, with no point (FreeCAD hands 0, 0, 0):
+        # only a wafer's seat can be taken from it; else the pick waits for the 3D view.
+        tree_click = not sub
+        if tree_click and not (key == "seat" and self._is_wafer(obj_name)):
+            self.status.setText(f"{POINTS[key]}: that was a click in the tree, which gives no "
+                                "point: click the point in the 3D view.")
+            return
         self.start_pick(None)
         fields = self.points[key]
         if key != "seat":
@@ -295,6 +295,10 @@ class FramesTaskPanel(ClosableTaskPanel):
         fields.set(seat)
         self.status.setText(f"Slot 1's seat height: {format_length(point.z)}, picked; X and Y "
                             "kept.")
+
+    def _is_wafer(self, obj_name):
+        obj = self.doc.getObject(obj_name)
+        return obj is not None and roles.role_of(obj) == roles.WAFER
 
     def values(self):
         """The panel's values as ``set_frames``' keyword arguments (ValueError when a field is

@@ -17,6 +17,8 @@ import re
 import FreeCAD as App
 from PySide import QtCore, QtGui
 
+from ..core.errors import InputError
+
 SIGNIFICANT_DIGITS = 6  # 0.775 mm, 0.00492126 in, 202.5 mm: a tolerance is readable in any unit
 
 # What a field holds: (FreeCAD unit, the internal unit its values are in, its name in messages,
@@ -183,7 +185,6 @@ class QuantityField(QtGui.QLineEdit):
     value_mm = value
 
 
-LengthField = QuantityField
 
 
 def length_input(value_mm, tooltip="", minimum=0.0, maximum=1e6):
@@ -244,3 +245,24 @@ def folder_row(field, parent, on_chosen, title="MCS folder", tooltip="Choose the
     row.addWidget(field, 1)
     row.addWidget(browse)
     return row
+
+
+def value_in(value, unit, name):
+    """A value given to a recorded function (a FreeCAD quantity, its text such as "0.6 mm", or
+    a bare number, taken in ``unit``) as a float in ``unit``; InputError naming ``name`` when it
+    is not one of ``unit``'s kind."""
+    if isinstance(value, str):
+        try:
+            value = App.Units.Quantity(value)
+        except Exception:  # FreeCAD raises its own types for text it cannot parse
+            raise InputError(name, None, f"{value!r} is not a quantity") from None
+    if hasattr(value, "getValueAs"):
+        wanted = App.Units.Quantity(f"1 {unit}").Unit if unit else App.Units.Quantity(1.0).Unit
+        if value.Unit != wanted:
+            raise InputError(name, None, f"{value.UserString} is not in units of "
+                                         f"{unit or 'a bare number'}")
+        return float(value.getValueAs(unit)) if unit else float(value.Value)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, None, f"{value!r} is not a number") from None

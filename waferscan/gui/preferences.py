@@ -149,7 +149,18 @@ class PreferencesPage:
         self._shown_speed = self.speed.value()  # rounded to the field's decimals
         self._loaded = {"half": self.half_thickness.isChecked(), "folder": self.folder.text()}
         self.sensor.load()
+        self._loaded_choices = self._choices()
         self.check()
+
+    def _choices(self):
+        return [self.half_thickness.isChecked(), self.sensor.shape.currentIndex(),
+                self.sensor.latch.currentIndex()]
+
+    def touched(self):
+        """Whether anything on the page was changed since it was loaded."""
+        fields = (self.thickness, self.position, self.protrusion, *self.sensor.fields.values())
+        return (any(field.edited() for field in fields if hasattr(field, "edited"))
+                or self._choices() != getattr(self, "_loaded_choices", self._choices()))
 
     def problems(self):
         """{field: why} for every field whose text is refused (the sensor group's included)."""
@@ -171,14 +182,22 @@ class PreferencesPage:
         the dialog's OK and Apply from storing them. True when every field is sound."""
         problems = self.problems()
         count = len(problems)
+        # A bad value stored before (set by hand in the parameter editor) is marked, but keeps
+        # OK from being pressed only once the page is edited: left alone, the page stores
+        # nothing, and the other pages' OK must not wait for this one.
+        blocking = count and self.touched()
         self.problem.setText("" if not count else
                              f"{count} field{'s' if count > 1 else ''} marked in red "
                              f"{'need' if count > 1 else 'needs'} correcting: OK stores "
-                             "nothing until then (Cancel keeps what is stored).")
+                             "nothing of this page until then (Cancel keeps what is stored)."
+                             if blocking else
+                             f"{count} stored value{'s' if count > 1 else ''} marked in red "
+                             f"{'are' if count > 1 else 'is'} not used (scans take the ideal "
+                             "sensor and say so): correct, or leave the page as it is.")
         self.problem.setVisible(bool(count))
         for button in self._dialog_buttons():
             try:
-                button.setEnabled(not count)
+                button.setEnabled(not blocking)
             except RuntimeError:  # a stale PySide2 wrapper of a button the dialog replaced
                 pass
         return not count

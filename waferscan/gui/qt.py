@@ -119,23 +119,28 @@ class GuiDocumentClosing:
 
     def __init__(self, name, then):
         self.name, self.then = name, then
-        self._added = True
+        self._added = True  # watching (close() not called yet)
+        self._observing = True  # still registered with FreeCAD
         Gui.addDocumentObserver(self)
         self._quitting = QtGui.QApplication.instance().aboutToQuit
         self._quitting.connect(self._quit)
 
     def slotDeletedDocument(self, gui_doc):  # noqa: N802 (FreeCAD's name)
-        if gui_doc.Document.Name == self.name:
+        if self._added and gui_doc.Document.Name == self.name:
             self.then()
 
     def _quit(self):
         """FreeCAD is quitting: end now, and stop watching at once (no event loop is left for
         ``close``'s later removal)."""
         if self._added:
-            self.then()
-        if self._added:
-            self._added = False
-            self._disconnect()
+            self.then()  # which may call close()
+        self._added = False
+        self._disconnect()
+        self._remove()
+
+    def _remove(self):
+        if self._observing:
+            self._observing = False
             Gui.removeDocumentObserver(self)
 
     def _disconnect(self):
@@ -147,9 +152,24 @@ class GuiDocumentClosing:
     def close(self):
         if self._added:
             self._added = False
-            self._disconnect()
             # Later: FreeCAD may be calling this very observer now (removing it deletes it).
-            QtCore.QTimer.singleShot(0, lambda: Gui.removeDocumentObserver(self))
+            # Not disconnected from aboutToQuit before then: a quit in between removes it.
+            QtCore.QTimer.singleShot(0, self._closed)
+
+    def _closed(self):
+        self._disconnect()
+        self._remove()
+
+
+def fitted_size(width, height, margin=(40, 80)):
+    """(width, height) no larger than the screen FreeCAD's main window is on (1024×700
+    included), less ``margin`` for the window's frame and the desktop's panels."""
+    app = QtGui.QApplication.instance()
+    if hasattr(app, "desktop"):  # Qt 5
+        screen = app.desktop().availableGeometry(Gui.getMainWindow())
+    else:  # Qt 6: the main window's screen
+        screen = Gui.getMainWindow().screen().availableGeometry()
+    return min(width, screen.width() - margin[0]), min(height, screen.height() - margin[1])
 
 
 def main_window_alive():

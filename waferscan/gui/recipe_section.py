@@ -18,9 +18,9 @@ from PySide import QtGui
 from ..cad.recipe_properties import OLD_KIND, limit_value, set_flag
 from ..core.errors import InputError
 from ..core.mapping import RULE_SETS
-from .inputs import QuantityField, format_length, normalise
+from .inputs import QuantityField, format_length, normalise, value_in
 from .session import doc_ref
-from .settings_section import (SettingsSection, keyword, quantity_ref, settings_object, value_in,
+from .settings_section import (SettingsSection, keyword, quantity_ref, settings_object,
                                write_settings)
 
 __all__ = ["RecipeSection", "apply_recipe"]

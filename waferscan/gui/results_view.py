@@ -14,9 +14,11 @@ from PySide import QtCore, QtGui
 
 from ..cad.results_sheet import COLUMNS, columns, table_cells
 from ..core.files.report import STATE_COLOURS, duration_note
+from ..core.errors import InputError
 from ..core.mapping import E87, STATE_NAMES
 from .inputs import length_unit
-from .session import doc_ref, last_result, record
+from .qt import fitted_size
+from .session import doc_ref, last_result, record, report
 from .side_view import SideView
 
 MM = " [mm]"
@@ -92,10 +94,7 @@ class ResultsTable(QtGui.QDialog):
         width = sum(self.table.columnWidth(c) for c in range(self.table.columnCount()))
         margins = layout.contentsMargins()
         wanted = max(620, width + frame + margins.left() + margins.right() + 4)
-        screen = QtGui.QApplication.primaryScreen()
-        if screen is not None:
-            wanted = min(wanted, screen.availableGeometry().width() - 40)
-        self.resize(wanted, 700)
+        self.resize(*fitted_size(wanted, 700))
 
     def rows(self):
         """The table's text, row by row (what a user sees)."""
@@ -113,7 +112,7 @@ class ResultsTable(QtGui.QDialog):
 
     def export_csv(self, path):
         """Write the table (this dialog's result) as CSV to ``path``, whole or not at all, in
-        mm whatever the unit schema (as stored)."""
+        mm whatever the unit schema (as stored); InputError when it cannot be written."""
         write_csv(self.result, path)
 
     def _export(self):
@@ -122,11 +121,16 @@ class ResultsTable(QtGui.QDialog):
         if not path:
             return
         if self.doc is not None and last_result(self.doc) is self.result:
-            # The line a macro replays: the document's last scan, exported.
+            # The line a macro replays: the document's last scan, exported (it says what
+            # went wrong itself).
             record(f"export_results_csv({doc_ref(self.doc)}, {path!r})")
-        else:
+            return
+        try:
             self.export_csv(path)
-            App.Console.PrintMessage(f"WaferScan: results exported to {path}\n")
+        except InputError as exc:
+            report(f"Export CSV: nothing written: {exc}", error=True)
+            return
+        App.Console.PrintMessage(f"WaferScan: results exported to {path}\n")
 
 
 def csv_text(result):
@@ -139,22 +143,29 @@ def csv_text(result):
 
 
 def write_csv(result, path):
-    from ..core.files.text_files import replacing
+    """``csv_text`` written to ``path`` whole or not at all (InputError: a path that cannot be
+    a file, or a folder that cannot be written in)."""
+    from ..core.files.text_files import atomic_write_text, check_output_path
 
-    with replacing(path) as tmp:
-        with open(tmp, "w", newline="", encoding="utf-8") as handle:
-            handle.write(csv_text(result))
+    check_output_path(path, "the CSV file")
+    try:
+        atomic_write_text(path, csv_text(result))
+    except OSError as exc:
+        raise InputError(path, None, f"cannot write: {exc.strerror or exc}") from None
 
 
 def export_results_csv(doc, path):
     """Write the results table of the document's last scan as CSV to ``path`` (what the table's
-    Export CSV… records). Refused (InputError) when the document was not scanned."""
-    from ..core.errors import InputError
-
+    Export CSV… records). A document never scanned, or a path that cannot be written, is said
+    to the user (nothing written); returns the path written, or None."""
     result = last_result(doc)
-    if result is None:
-        raise InputError(doc.Label, None, "no scan to export: use Run scan first")
-    write_csv(result, path)
+    try:
+        if result is None:
+            raise InputError(doc.Label, None, "no scan to export: use Run scan first")
+        write_csv(result, path)
+    except InputError as exc:
+        report(f"Export CSV: nothing written: {exc}", error=True)
+        return None
     App.Console.PrintMessage(f"WaferScan: results exported to {path}\n")
     return path
 

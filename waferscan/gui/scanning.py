@@ -118,7 +118,9 @@ def scan_and_store(doc):
 
     scene, result = _scan_once(doc)
     session.results[doc.Name] = result
+    # One undo step: the results, and a range that follows the carrier shown as scanned.
     with transaction(doc, "WaferScan results"):
+        show_followed_range(scene, result.layout)
         store_in_document(doc, result)
     App.Console.PrintMessage(f"WaferScan: {doc.Label}: slot code {result.code}, "
                              f"{len(result.runs)} sensor runs\n")
@@ -129,7 +131,8 @@ def scan_and_store(doc):
 
 def result_now(doc):
     """The document's results as it is now: scanned afresh (a millisecond), so that a wafer
-    moved or deleted since the last Run scan is seen. Only Run scan stores them."""
+    moved or deleted since the last Run scan is seen. Only Run scan stores them (and shows a
+    range that follows the carrier in StartZ and FinalZ): the document is not changed here."""
     return _scan_once(doc)[1]
 
 
@@ -163,14 +166,13 @@ def _scan_once(doc):
     if ensure_settings(doc, scene) is not None:
         scene = DocumentScene.of(doc)
     layout = read_layout(doc, scene)
-    show_followed_range(doc, scene, layout)
     return scene, scan_document(doc, "analytic", read=(scene, layout))
 
 
-def show_followed_range(doc, scene, layout):
+def show_followed_range(scene, layout):
     """A range that follows the carrier (RangeFromCarrier) is what the reader computed from
-    the carrier; StartZ and FinalZ are set to it (one undo step, when they differ), so that the
-    property editor shows the range scanned."""
+    the carrier; StartZ and FinalZ are set to it when they differ, so that the property editor
+    shows the range scanned. The caller holds the undo step (Run scan's results)."""
     from ..cad import roles
     from ..cad.features import RANGE_FROM_CARRIER, following_carrier
 
@@ -182,7 +184,7 @@ def show_followed_range(doc, scene, layout):
     scan = layout.scan
     if (settings.StartZ.Value, settings.FinalZ.Value) == (scan.start_z, scan.final_z):
         return
-    with following_carrier(), transaction(doc, "Scan range follows the carrier"):
+    with following_carrier():
         settings.StartZ, settings.FinalZ = scan.start_z, scan.final_z
     App.Console.PrintMessage(f"WaferScan: {settings.Label}: the scan range follows "
                              f"{layout.carrier}'s slots: {format_length(scan.start_z)} to "

@@ -13,9 +13,9 @@ from PySide import QtGui
 
 from ..core.errors import InputError
 from ..core.sensor.motion import LATCHES
-from .inputs import QuantityField, normalise
+from .inputs import QuantityField, normalise, value_in
 from .session import doc_ref
-from .settings_section import (SettingsSection, keyword, quantity_ref, settings_object, value_in,
+from .settings_section import (SettingsSection, keyword, quantity_ref, settings_object,
                                write_settings)
 
 __all__ = ["SensorSection", "apply_sensor_settings"]

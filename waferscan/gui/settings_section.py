@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import re
 
-import FreeCAD as App
 from PySide import QtCore, QtGui
 
 from ..cad.reader import DocumentScene, read_layout
@@ -37,26 +36,6 @@ def quantity_ref(value, unit):
     """The Python text of a value in ``unit`` as a FreeCAD quantity, for a recorded line:
     ``App.Units.Quantity('0.6 mm')``."""
     return f"App.Units.Quantity('{float(value)!r} {unit}')"
-
-
-def value_in(value, unit, name):
-    """A value given to a recorded function (a FreeCAD quantity, its text such as "0.6 mm", or
-    a bare number, taken in ``unit``) as a float in ``unit``; InputError naming ``name`` when it
-    is not one of ``unit``'s kind."""
-    if isinstance(value, str):
-        try:
-            value = App.Units.Quantity(value)
-        except Exception:  # FreeCAD raises its own types for text it cannot parse
-            raise InputError(name, None, f"{value!r} is not a quantity") from None
-    if hasattr(value, "getValueAs"):
-        if not unit or value.Unit != App.Units.Quantity(f"1 {unit}").Unit:
-            raise InputError(name, None, f"{value.UserString} is not in units of "
-                                         f"{unit or 'a bare number'}")
-        return float(value.getValueAs(unit))
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, None, f"{value!r} is not a number") from None
 
 
 def _current(obj, prop):

@@ -20,8 +20,11 @@ __all__ = ["tag_selection", "record_tagging", "untag_selection", "make_carrier_f
 
 ROLE_NAMES = {"wafer": "Wafer", "carrier": "Carrier", "scanner": "Scanner"}
 TAG_HINTS = {"wafer": "its disc is read from its solid",
-             "carrier": "set SlotCount, Pitch and SlotOrigin (slot 1's seat) in its Data tab",
-             "scanner": "set Emitter and Receiver (in its own frame) in its Data tab"}
+             "carrier": "give its slots with Set up carrier and sensor… (derived from its "
+                        "geometry, slot 1's seat picked in the 3D view), or set SlotCount, "
+                        "Pitch and SlotOrigin in its Data tab",
+             "scanner": "pick the beam's ends with Set up carrier and sensor…, or set Emitter "
+                        "and Receiver (in its own frame) in its Data tab"}
 
 
 def tag_selection(role, selection=None, diameters=None, split=None, retag=None):
@@ -133,7 +136,7 @@ def _tag_all(role, objects, diameters=None):
     for obj in objects:
         if role == "wafer":
             diameter, thickness = sizes[obj.Label] = roles.tag_wafer(obj)
-            why = wafer_like(diameter, thickness, *(() if diameters is None else (diameters,)))
+            why = wafer_like(diameter, thickness, diameters)
             if why:
                 odd.append(f"{obj.Label} is {why}")
         elif role == "carrier":
@@ -275,7 +278,8 @@ def _offer_split(role, compounds):
                 "compound). Split into one object per solid, as one undo step")
     choices = [(split, QtGui.QMessageBox.AcceptRole)]
     if role == "wafer":
-        question += ", and tag the discs among them as wafers?"
+        question += (", then tag the wafer-like discs among them as wafers, as a second "
+                     "undo step (the other solids are listed, with why)?")
     else:
         question += f", then select the {role} among them? Or tag the whole as the {role}?"
         choices.append((whole, QtGui.QMessageBox.AcceptRole))

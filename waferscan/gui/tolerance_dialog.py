@@ -28,6 +28,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from ..addon import ADDON_ROOT, venv_dir
+from .qt import fitted_size
 from .session import record, session
 
 PROGRESS = re.compile(r"sweep: (\d+)/(\d+) partitions")
@@ -121,7 +122,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
         layout.addWidget(self.status)
         layout.addWidget(self.text, 1)
         layout.addLayout(plots, 1)
-        self.resize(*fitted_size(1000, 800, self.parentWidget()))
+        self.resize(*fitted_size(1000, 800))
 
     def _file_row(self, form, label, value, pattern, placeholder=""):
         edit = QtGui.QLineEdit(value)
@@ -185,8 +186,11 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.stop_button.setEnabled(False)
         self._stopping = True
         pid = int(self.process.processId())
-        if pid > 0:
-            os.kill(pid, signal.SIGINT)
+        try:
+            if pid > 0:
+                os.kill(pid, signal.SIGINT)
+        except ProcessLookupError:  # it ended as Stop was clicked: _finished says how
+            pass
 
     def start(self):
         """Run the sweep in a QProcess; the progress bar follows its progress lines."""
@@ -278,22 +282,6 @@ class ToleranceStudyDialog(QtGui.QDialog):
         super().closeEvent(event)
 
 
-def fitted_size(width, height, parent=None):
-    """(width, height) no larger than the available part of the screen the dialog opens on
-    (less a margin for the window's frame): a 1000 × 800 dialog on a 1024 × 700 screen
-    would have its buttons off the screen."""
-    app = QtGui.QApplication.instance()
-    screen = None
-    if parent is not None and hasattr(parent, "screen"):
-        screen = parent.screen()  # Qt 5.14 and later
-    if screen is None and hasattr(app, "primaryScreen"):
-        screen = app.primaryScreen()
-    if screen is None:
-        return width, height
-    available = screen.availableGeometry()
-    return (min(width, available.width() - 40), min(height, available.height() - 80))
-
-
 class PlotLabel(QtGui.QLabel):
     """A plot that scales with the dialog (keeping its proportions) and opens at full size,
     in a window of its own that can be resized or maximised, when clicked."""
@@ -341,7 +329,7 @@ class PlotLabel(QtGui.QLabel):
         layout = QtGui.QVBoxLayout(window)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.addWidget(view)
-        window.resize(*fitted_size(self.plot.width(), self.plot.height(), self.window()))
+        window.resize(*fitted_size(self.plot.width(), self.plot.height()))
         view.set_plot(self.plot)
         view.setCursor(QtCore.Qt.ArrowCursor)
         view.setToolTip("")
