@@ -108,11 +108,13 @@ def refuse():
 def stored_by_hand():
     """A bad value set by hand in the parameter editor: marked when the page opens, but OK
     (for every page of the dialog) waits only once this page is edited."""
-    App.ParamGet(PARAMETERS).SetFloat("PositionTolerance", -1.0)
+    App.ParamGet(PARAMETERS).SetFloat("ThresholdOn", 2.0)  # a fraction of the spot: 0 to 1
 
     def look(dialog):
         result["hand_page"] = page_state(dialog)
-        dialog.findChild(QtGui.QLineEdit, "ThresholdOff").setText("0,45")
+        on = dialog.findChild(QtGui.QLineEdit, "ThresholdOn")
+        result["hand_on_red"] = "#c01010" in on.styleSheet()
+        dialog.findChild(QtGui.QLineEdit, "PositionTolerance").setText("0,3 mm")
         QtGui.QApplication.processEvents()
         result["hand_edited_page"] = page_state(dialog)
         buttons(dialog)["Cancel"].click()

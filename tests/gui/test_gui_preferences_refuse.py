@@ -55,8 +55,8 @@ def test_corrected_with_a_decimal_comma_ok_stores_only_the_edits(gui):
 def test_a_bad_value_stored_by_hand_is_marked_but_blocks_ok_only_once_the_page_is_edited(gui):
     """It greyed OK for the whole preferences dialog (every page) until it was corrected."""
     page = gui["hand_page"]
-    assert page["fields"]["PositionTolerance"]["red"] is True
-    assert page["ok_enabled"] is True and "not used" in page["problem"]
+    assert gui["hand_on_red"] is True  # ThresholdOn 2.0, set in the parameter editor
+    assert page["ok_enabled"] is True and "not used" in page["problem"], page
     edited = gui["hand_edited_page"]
     assert edited["ok_enabled"] is False and "need" in edited["problem"]
 
