@@ -16,8 +16,8 @@ from ..cad.reader import DocumentScene
 from ..core.errors import InputError, WaferScanError
 from .inputs import format_length, length_input, value_in
 from .qt import ClosableTaskPanel
-from .session import (check_no_other_task_panel, doc_ref, record, report, show_task_panel,
-                      transaction)
+from .session import (ask, check_no_other_task_panel, doc_ref, record, report,
+                      show_task_panel, transaction)
 
 __all__ = ["FramesTaskPanel", "open_frames_panel", "set_frames", "set_frames_call",
            "UNDO_NAME"]
@@ -345,14 +345,25 @@ class FramesTaskPanel(ClosableTaskPanel):
 
 
 def _chosen_carrier(doc, scene):
-    """The carrier ScanSettings names, else the first one tagged; None without any."""
+    """The carrier ScanSettings names, the only one tagged, or the one the user chooses among
+    several (as Run scan asks); None without any. InputError when the user cancels."""
     if not scene.carriers:
         return None
     chosen = next((getattr(i.obj, "Carrier", "") for i in scene.settings), "")
     for instance in scene.carriers:
         if instance.obj.Label == chosen:
             return instance.obj
-    return scene.carriers[0].obj
+    if len(scene.carriers) == 1:
+        return scene.carriers[0].obj
+    labels = [i.obj.Label for i in scene.carriers]
+    answer = ask(f"{doc.Label} has {len(labels)} objects tagged as carriers: "
+                 f"{', '.join(labels)}. Which one is to be set up?",
+                 [(label, QtGui.QMessageBox.AcceptRole) for label in labels] +
+                 [("Cancel", QtGui.QMessageBox.RejectRole)])
+    if answer not in labels:
+        raise InputError(doc.Label, None, f"several carriers ({', '.join(labels)}): choose "
+                                          "the one to set up")
+    return scene.carriers[labels.index(answer)].obj
 
 
 def _point_text(point):
