@@ -96,6 +96,16 @@ def test_the_rows_set_current_beside_calibrated():
     assert "first_slot_z                 293.940         294.240" in text
 
 
+def test_the_changes_are_the_rows_a_person_reads_as_changed():
+    """Apply to document writes only what changes: a layout that already holds the calibrated
+    recipe (after = before) gives no change, and no undo step is made for it."""
+    calibration = calibrate(drifted(), scan_layout)
+    changed = [key for key, _, _ in calibration.changes()]
+    assert changed == ["first_slot_z", "slot_pitch", "start_z", "final_z",
+                       "thickness_correction"]
+    assert replace(calibration, after=calibration.before).changes() == []
+
+
 @pytest.mark.parametrize("load, kind, words", [
     ("0100100001000010000100011", NO_BOTTOM_WAFER,
      "no wafer in the bottom slot (slot 1): the lowest run, 0.650 mm at z = 304.290, is nearest "

@@ -122,6 +122,11 @@ def _document_buttons(dialog, buttons, status, calibration, doc):
     def on_apply():
         if not still_current("Apply to document"):
             return
+        if not calibration.changes():  # said, not written: no empty undo step
+            status.setText(f"{html.escape(doc.Label)} already holds the calibrated recipe: "
+                           "nothing to apply.")
+            status.show()
+            return
         record(f"apply_calibration({doc_ref(doc)})")
         if _reads_as(doc, calibration.before):
             return  # not applied: the reason was reported

@@ -159,17 +159,20 @@ def apply_calibration(doc):
     calibration = _calibrated(doc, "Apply calibration")
     if calibration is None:
         return None
+    changed = [f"{key} {shown_value(key, old)} → {shown_value(key, new)}"
+               for key, old, new in calibration.changes()]
+    if not changed:  # no undo step, and a range that follows the carrier keeps following
+        App.Console.PrintMessage(f"WaferScan: {doc.Label} already holds the calibrated "
+                                 "recipe: nothing to apply\n")
+        return calibration
     try:
         with transaction(doc, "Apply calibration"):
             write_calibration(doc, calibration)
     except InputError as exc:  # the carrier deleted since it was read: nothing written
         report(f"Apply calibration of {doc.Label}: nothing done: {exc}", error=True)
         return None
-    changed = [f"{key} {shown_value(key, old)} → {shown_value(key, new)}"
-               for key, old, new in calibration.rows() if shown_value(key, old) !=
-               shown_value(key, new)]
     App.Console.PrintMessage(f"WaferScan: applied the calibration to {doc.Label}: "
-                             f"{', '.join(changed) or 'nothing changed'}\n")
+                             f"{', '.join(changed)}\n")
     return calibration
 
 

@@ -103,6 +103,12 @@ class Calibration:
         old, new = self.values(self.before), self.values(self.after)
         return [(key, old[key], new[key]) for key in REPORTED_KEYS]
 
+    def changes(self):
+        """The rows whose value the calibration changes, as a person reads them
+        (``shown_value``): empty when the layout already holds the calibrated recipe."""
+        return [(key, old, new) for key, old, new in self.rows()
+                if shown_value(key, old) != shown_value(key, new)]
+
 
 def _plan(layout):
     from .scan_result import slot_plan
