@@ -23,6 +23,13 @@ _OPTIONAL = tuple(key for key, value in DEFAULTS.items() if value is None)
 _SET_TIPS = {limit: tip for _, limit, tip in RECIPE_SET_PROPERTIES}
 LIMITS = tuple(_SET_TIPS)  # the limit properties, each with its "...Set" box
 OLD_KIND = "App::PropertyFloat"  # the limits' type before (negative: not set)
+OLD_NOT_SET = -1.0  # what the GUI wrote for "not set" into such a limit
+
+
+def holds_old_limits(obj):
+    """Whether ``obj`` holds the limits as an earlier version did (floats, negative: not
+    set)."""
+    return obj is not None and obj.getTypeIdOfProperty(LIMITS[0]) == OLD_KIND
 
 
 def set_flag(prop):

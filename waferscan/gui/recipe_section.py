@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from PySide import QtGui
 
-from ..cad.recipe_properties import OLD_KIND, limit_value, set_flag
+from ..cad import recipe_properties
+from ..cad.recipe_properties import OLD_NOT_SET, holds_old_limits, limit_value, set_flag
 from ..core.errors import InputError
 from ..core.mapping import RULE_SETS
 from .inputs import QuantityField, format_length, normalise, value_in
@@ -26,18 +27,13 @@ from .settings_section import (SettingsSection, keyword, quantity_ref, settings_
 __all__ = ["RecipeSection", "apply_recipe"]
 
 # (property, label): lengths in the user's unit; blank means not set.
-LIMITS = (("ThicknessMin", "Thickness min"), ("ThicknessMax", "Thickness max"),
-          ("DoubleThreshold", "Cross beyond"), ("PositionBelow", "Below seat"),
-          ("PositionAbove", "Above seat"))
-OLD_NOT_SET = -1.0  # an earlier version's "not set" (App::PropertyFloat limits)
+LABELS = {"ThicknessMin": "Thickness min", "ThicknessMax": "Thickness max",
+          "DoubleThreshold": "Cross beyond", "PositionBelow": "Below seat",
+          "PositionAbove": "Above seat"}
+LIMITS = tuple((prop, LABELS[prop]) for prop in recipe_properties.LIMITS)
 PROPERTIES = tuple(p for p, _ in LIMITS) + ("ThicknessCorrection", "Rules")
 UNDO_NAME = "WaferScan recipe"
 MISSING = "No ScanSettings with a recipe: Run scan adds one."
-
-
-def _old(obj):
-    """Whether ``obj`` holds the limits as an earlier version did (floats, -1: not set)."""
-    return obj is not None and obj.getTypeIdOfProperty("ThicknessMin") == OLD_KIND
 
 
 class RecipeSection(SettingsSection):
@@ -95,7 +91,7 @@ class RecipeSection(SettingsSection):
         self.rules.setCurrentIndex(self.rules.findText(str(obj.Rules)))
 
     def _old(self, obj):
-        return _old(obj)
+        return holds_old_limits(obj)
 
     def values(self):
         """{property: value} as typed (limits in mm, each with its "...Set" box; in an earlier
@@ -154,7 +150,7 @@ def apply_recipe(doc, **recipe):
     ``rules`` ("waferscan" or "boundary"). A recipe the scan's readers refuse raises their
     InputError and nothing is written. Returns the properties changed."""
     obj = settings_object(doc)
-    old = _old(obj)
+    old = holds_old_limits(obj)
     limits = {keyword(prop): prop for prop, _ in LIMITS}
     values = {}
     for name, value in recipe.items():
