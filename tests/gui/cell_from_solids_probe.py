@@ -8,31 +8,16 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    artifact, console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
+    answer_next_question, artifact, console_calls, finish, later, message_texts, result, start,
+    wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtCore, QtGui  # noqa: E402
+from PySide import QtGui  # noqa: E402
 
 state = {}
 CENTRE = (170.0, 180.0)  # the wafers' centre; slot 1's seat at Z 10, pitch 10
 WAFER_SLOTS = range(1, 11)
-
-
-def answer_next_question(button_text, log):
-    def click():
-        box = QtGui.QApplication.activeModalWidget()
-        if not isinstance(box, QtGui.QMessageBox):
-            QtCore.QTimer.singleShot(50, click)
-            return
-        log.append(box.text())
-        for button in box.buttons():
-            if button.text() == button_text:
-                button.click()
-                return
-        box.reject()
-
-    QtCore.QTimer.singleShot(50, click)
 
 
 def compound_shape():

@@ -11,11 +11,12 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
+    answer_next_question, console_calls, finish, later, message_texts, result, start, wait_for,
+    window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtCore, QtGui  # noqa: E402
+from PySide import QtGui  # noqa: E402
 
 FOLDER = os.environ["WAFERSCAN_GUI_MCS"]
 STEP_FILE = os.path.join(FOLDER, "turned-cell.step")
@@ -24,25 +25,6 @@ STEP_FILE = os.path.join(FOLDER, "turned-cell.step")
 EMITTER_CLICK = (-266.6, -80.0, 283.0)
 RECEIVER_CLICK = (-266.6, 80.0, 283.0)
 state = {}
-
-
-def answer_next_question(button_text, log):
-    """Click ``button_text`` in the next modal question box, as a user would; its text goes
-    into ``log``."""
-
-    def answer():
-        box = QtGui.QApplication.activeModalWidget()
-        if not isinstance(box, QtGui.QMessageBox):
-            QtCore.QTimer.singleShot(50, answer)
-            return
-        log.append(box.text())
-        for button in box.buttons():
-            if button.text() == button_text:
-                button.click()
-                return
-        box.reject()
-
-    QtCore.QTimer.singleShot(50, answer)
 
 
 def imported(doc, name):

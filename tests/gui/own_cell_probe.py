@@ -9,11 +9,12 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    console_calls, finish, later, message_texts, result, start, wait_for, window_shot)
+    answer_next_question, console_calls, finish, later, message_texts, result, start, wait_for,
+    window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtCore, QtGui  # noqa: E402
+from PySide import QtGui  # noqa: E402
 
 FOLDER = os.environ["WAFERSCAN_GUI_MCS"]
 STEP_FILE = os.path.join(FOLDER, "own-cell.step")
@@ -23,25 +24,6 @@ SEATS = {"W1": 10.0, "W3": 30.0}
 COMMANDS = ("WaferScan_Results", "WaferScan_SlotCode", "WaferScan_CrossCheck",
             "WaferScan_Preferences", "WaferScan_RunScan", "WaferScan_McsLink",
             "WaferScan_NewPaperLayout", "Std_New")
-
-
-def answer_next_question(button_text, log):
-    """Click ``button_text`` in the next modal question box, as a user would; its text goes
-    into ``log``."""
-
-    def click():
-        box = QtGui.QApplication.activeModalWidget()
-        if not isinstance(box, QtGui.QMessageBox):
-            QtCore.QTimer.singleShot(50, click)
-            return
-        log.append(box.text())
-        for button in box.buttons():
-            if button.text() == button_text:
-                button.click()
-                return
-        box.reject()
-
-    QtCore.QTimer.singleShot(50, click)
 
 
 def record_enabled(key, then, extra=()):

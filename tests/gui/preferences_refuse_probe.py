@@ -7,7 +7,8 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
-from probe_steps import artifact, finish, guarded, later, result, start  # noqa: E402
+from probe_steps import (  # noqa: E402
+    artifact, finish, later, open_preferences, result, start)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
@@ -45,26 +46,6 @@ def page_state(dialog):
             "fields": fields}
 
 
-def open_page(then):
-    """Open the preferences with the workbench's command and show the WaferScan page; ``then
-    (dialog)`` runs in it. Returns once the dialog is closed (it is modal)."""
-
-    def on_dialog():
-        dialog = QtGui.QApplication.activeModalWidget()
-        if dialog is None:
-            QtCore.QTimer.singleShot(50, guarded(on_dialog))
-            return
-        for tree in dialog.findChildren(QtGui.QListWidget):
-            for i in range(tree.count()):
-                if tree.item(i).text() == "WaferScan":
-                    tree.setCurrentRow(i)
-        QtGui.QApplication.processEvents()
-        then(dialog)
-
-    QtCore.QTimer.singleShot(100, guarded(on_dialog))
-    Gui.runCommand("WaferScan_Preferences")
-
-
 def begin():
     Gui.activateWorkbench("WaferScanWorkbench")
     result["stored_before"] = stored()
@@ -73,7 +54,7 @@ def begin():
         result["untouched_page"] = page_state(dialog)
         buttons(dialog)["OK"].click()
 
-    open_page(untouched)
+    open_preferences(untouched)
     result["stored_untouched"] = stored()
     later(refuse, 50)
 
@@ -100,7 +81,7 @@ def refuse():
         buttons(dialog)["OK"].click()
         result["open_after_good_ok"] = dialog.isVisible()
 
-    open_page(bad_then_good)
+    open_preferences(bad_then_good)
     result["stored_good"] = stored()
     later(stored_by_hand, 50)
 
@@ -119,7 +100,7 @@ def stored_by_hand():
         result["hand_edited_page"] = page_state(dialog)
         buttons(dialog)["Cancel"].click()
 
-    open_page(look)
+    open_preferences(look)
     finish()
 
 

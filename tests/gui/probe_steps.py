@@ -131,29 +131,57 @@ def message_texts():
     return texts
 
 
-def accept_preferences(on_page):
-    """Open the preferences with the workbench's command; on the WaferScan page call
-    ``on_page(dialog)`` (to read or type its fields), then click OK. Returns once the dialog
-    is closed (it is modal)."""
+def open_preferences(then):
+    """Open the preferences with the workbench's command and show the WaferScan page; ``then
+    (dialog)`` runs in it. Returns once the dialog is closed (it is modal)."""
     import FreeCADGui as Gui
 
     def on_dialog():
         dialog = QtGui.QApplication.activeModalWidget()
         if dialog is None:
-            QtCore.QTimer.singleShot(50, on_dialog)
+            QtCore.QTimer.singleShot(50, guarded(on_dialog))
             return
         for tree in dialog.findChildren(QtGui.QListWidget):
             for i in range(tree.count()):
                 if tree.item(i).text() == "WaferScan":
                     tree.setCurrentRow(i)
         QtGui.QApplication.processEvents()
+        then(dialog)
+
+    QtCore.QTimer.singleShot(100, guarded(on_dialog))
+    Gui.runCommand("WaferScan_Preferences")  # modal: returns once the dialog is closed
+
+
+def accept_preferences(on_page):
+    """``open_preferences``, ``on_page(dialog)`` on the WaferScan page (to read or type its
+    fields), then OK clicked."""
+
+    def then(dialog):
         on_page(dialog)
         ok = [b for b in dialog.findChildren(QtGui.QPushButton)
               if b.text().replace("&", "") == "OK"]
         ok[0].click()
 
-    QtCore.QTimer.singleShot(100, on_dialog)
-    Gui.runCommand("WaferScan_Preferences")  # modal: returns once OK was clicked
+    open_preferences(then)
+
+
+def answer_next_question(button_text, log):
+    """Click ``button_text`` in the next modal question box, as a user would (another button
+    missing: the box is rejected); its text goes into ``log``."""
+
+    def answer():
+        box = QtGui.QApplication.activeModalWidget()
+        if not isinstance(box, QtGui.QMessageBox):
+            QtCore.QTimer.singleShot(50, answer)
+            return
+        log.append(box.text())
+        for button in box.buttons():
+            if button.text() == button_text:
+                button.click()
+                return
+        box.reject()
+
+    QtCore.QTimer.singleShot(50, answer)
 
 
 def scan_paper_layout():

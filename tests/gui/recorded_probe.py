@@ -14,6 +14,7 @@ from probe_steps import (  # noqa: E402
     task_panel, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
+import probe_steps as steps  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
@@ -52,19 +53,8 @@ def replay_line(line):
 
 
 def answer_next_question(button_text):
-    def click():
-        box = QtGui.QApplication.activeModalWidget()
-        if not isinstance(box, QtGui.QMessageBox):
-            QtCore.QTimer.singleShot(50, click)
-            return
-        result.setdefault("questions", []).append(box.text())
-        for button in box.buttons():
-            if button.text() == button_text:
-                button.click()
-                return
-        box.reject()
-
-    QtCore.QTimer.singleShot(50, click)
+    """``probe_steps.answer_next_question``, the questions kept in the result."""
+    steps.answer_next_question(button_text, result.setdefault("questions", []))
 
 
 def show_console():
