@@ -13,7 +13,7 @@ from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan.engines import CAD_ENGINES
 from ..core.scan.layout_scan import scan_layout
 from .reader import DocumentScene, read_layout
-from .stepping import WaferInItsFrame, mover_for, stepper_through_document
+from .stepping import framed_wafers, mover_for, stepper_through_document
 
 
 def document_stepper(scene, mover):
@@ -21,7 +21,7 @@ def document_stepper(scene, mover):
     placement read back at every step and tested exactly."""
 
     def prepare(layout, reachable):
-        framed = {i: WaferInItsFrame(scene.wafers[i], layout.wafers[i]) for i in reachable}
+        framed = framed_wafers(scene, layout, reachable)
         return lambda beam: [i for i, wafer in framed.items()
                              if beam_hits_wafer(beam.emitter, beam, wafer.wafer_now())]
 

@@ -17,9 +17,8 @@ import FreeCAD as App
 from ..core.errors import InputError
 from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan import slow_scan
-from . import roles
 from .reader import beam_from
-from .stepping import WaferInItsFrame
+from .stepping import framed_wafers, scanner_ends
 
 JAB_SUBSTEP = 0.5  # mm between the jab's sub-steps
 SWEEP_SUBSTEP = 0.25  # degrees between the sweep's sub-steps
@@ -63,9 +62,8 @@ class RobotArm:
         robot, base = mover.robot, mover.base
         heading = robot.fork_heading(mover.start, base)
         expected = slow_scan.heading(layout)
-        source = mover.holder.Label
         if max(abs(a - b) for a, b in zip(heading, expected)) > 1e-9:
-            raise InputError(source, None, "the fork's heading does not point into the scanned "
+            raise InputError(mover.holder.Label, None, "the fork's heading does not point into the scanned "
                                            "carrier: the robot cannot jab it")
         emitter, direction, length = robot.beam(mover.start, base)
         mid = [e + 0.5 * length * d for e, d in zip(emitter, direction)]
@@ -74,13 +72,13 @@ class RobotArm:
         aside = (mid[0] - wx) * -heading[1] + (mid[1] - wy) * heading[0]
         radius = layout.scan.sweep_radius
         if abs(behind - radius) > 1e-6 or abs(aside) > 1e-6:
-            raise InputError(source, None, f"the robot's wrist axis is {behind:.6g} mm behind "
+            raise InputError(mover.holder.Label, None, f"the robot's wrist axis is {behind:.6g} mm behind "
                                            f"its beam's midpoint ({aside:.3g} mm aside); the "
                                            f"scan's sweep_radius is {radius:g} mm: set "
                                            f"sweep_radius = {behind:.6g}")
         self.wrist = "wrist"
         if self.wrist not in robot.joint_names:
-            raise InputError(source, None, "the robot has no joint named 'wrist' to sweep with")
+            raise InputError(mover.holder.Label, None, "the robot has no joint named 'wrist' to sweep with")
 
     def joints(self, z, advance=0.0, turn=0.0):
         mover = self.mover
@@ -132,8 +130,7 @@ def document_measure(scene, arm, layout):
     """``measure(z, reach, amplitude)`` -> (front, sweep) for ``slow_scan.probe_pocket``,
     through the document (see the module's docstring)."""
     scanner = scene.scanner()
-    holder = roles.role_holder(scanner.obj)
-    ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
+    ends = scanner_ends(scene)
     index = {w.name: i for i, w in enumerate(layout.wafers)}
     discs = {}
 
@@ -142,7 +139,7 @@ def document_measure(scene, arm, layout):
         beam = beam_from(scanner, ends)
         for i in near:
             if i not in discs:
-                discs[i] = WaferInItsFrame(scene.wafers[i], layout.wafers[i])
+                discs.update(framed_wafers(scene, layout, [i]))
             if beam_hits_wafer(beam.emitter, beam, discs[i].wafer_now()):
                 return True
         return False

@@ -190,13 +190,18 @@ class RobotMover:
             raise scene.error(f"the scanner's LiftAxis {tuple(layout.lift_axis)} is not the "
                               f"robot's lift axis {self.axis}")
         self.z0 = self.robot.beam(self.start, self.base)[0][2]
+        self.error = scene.error
+        self.check_range(layout)
+
+    def check_range(self, layout):
+        """Refuse a layout whose scan range takes the lift joint beyond its limits."""
         lift = self.robot.lift_joint
         low, high = self.robot.limits[lift]
         for z in (layout.scan.start_z, layout.scan.final_z):
             value = self.joints_at(z)[lift]
             if not low - 1e-9 <= value <= high + 1e-9:
-                raise scene.error(f"scan position {z:g} mm needs the {lift} joint at "
-                                  f"{value:.3f} mm, beyond its limits {low:g}..{high:g} mm")
+                raise self.error(f"scan position {z:g} mm needs the {lift} joint at "
+                                 f"{value:.3f} mm, beyond its limits {low:g}..{high:g} mm")
 
     def joints_at(self, z):
         joints = dict(self.start)

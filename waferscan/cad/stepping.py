@@ -24,19 +24,56 @@ class WaferInItsFrame:
         self.wafer = wafer
         inverse = instance.placement().inverse()
         self.center = inverse.multVec(App.Vector(*wafer.center))
-        self.normal = inverse.Rotation.multVec(App.Vector(*wafer.normal))
+        self.normal = _turned(inverse, App.Vector(*wafer.normal))
 
     def wafer_now(self):
         """The wafer where its instance's placement puts it now (global coordinates)."""
         placement = self.instance.placement()
         c = placement.multVec(self.center)
-        # FreeCAD 0.20 leaks ~80 B on each Placement.Rotation (and vector property) access:
-        # the normal is turned by the placement's matrix with its translation taken out.
-        turn = placement.toMatrix()
-        turn.A14 = turn.A24 = turn.A34 = 0.0
-        n = turn.multVec(self.normal)
+        n = _turned(placement, self.normal)
         return Wafer(self.wafer.name, (c.x, c.y, c.z), (n.x, n.y, n.z), self.wafer.diameter,
                      self.wafer.thickness, bow=self.wafer.bow)
+
+
+def _turned(placement, vector):
+    """``vector`` turned by the placement's rotation. FreeCAD (0.20.2 and 1.0) keeps ~80 B for
+    each read of ``Placement.Rotation`` (and of a vector property): the vector is turned by the
+    placement's matrix with its translation taken out instead."""
+    turn = placement.toMatrix()
+    turn.A14 = turn.A24 = turn.A34 = 0.0
+    return turn.multVec(vector)
+
+
+def per_scene(scene, key, make):
+    """``make()``, made once for a scene and ``key``. The MCS link keeps one scene for each
+    version of the document, so its commands do not read the same placements and properties
+    again: FreeCAD (0.20.2 and 1.0) keeps ~80 B for each such read, which a watcher answering
+    thousands of commands would pile up (issue 25). Only the last scene's are kept."""
+    if _MADE[0] is not scene:
+        _MADE[:] = [scene, {}]
+    made = _MADE[1]
+    if key not in made:
+        made[key] = make()
+    return made[key]
+
+
+_MADE = [None, {}]  # [the scene, {key: what was made}]
+
+
+def framed_wafers(scene, layout, indices):
+    """{i: WaferInItsFrame} for the wafers ``indices`` of the layout read from ``scene``."""
+    return {i: per_scene(scene, ("framed", i, layout.wafers[i]),
+                         lambda i=i: WaferInItsFrame(scene.wafers[i], layout.wafers[i]))
+            for i in indices}
+
+
+def scanner_ends(scene):
+    """(emitter, receiver): the scanner's beam ends in its own frame, as Vectors."""
+    def read():
+        holder = roles.role_holder(scene.scanner().obj)
+        return App.Vector(holder.Emitter), App.Vector(holder.Receiver)
+
+    return per_scene(scene, "scanner ends", read)
 
 
 class ScannerMover:
@@ -76,10 +113,14 @@ class ScannerMover:
 
 def mover_for(scene, layout):
     """What moves the scanner for this document: its robot's lift joint, or its placement."""
+    axis = tuple(layout.lift_axis)
     if scene.robots:
         from .robot import RobotMover  # pinocchio is imported only when a robot is there
-        return RobotMover(scene, layout)
-    return ScannerMover(scene.scanner(), layout.lift_axis)
+        mover = per_scene(scene, ("robot mover", axis), lambda: RobotMover(scene, layout))
+        mover.check_range(layout)
+        return mover
+    return per_scene(scene, ("scanner mover", axis),
+                     lambda: ScannerMover(scene.scanner(), layout.lift_axis))
 
 
 
@@ -94,8 +135,7 @@ def stepper_through_document(scene, mover, prepare):
         check_stepped(scan)
         wafers_hit = prepare(layout, reachable_wafers(layout))
         scanner = scene.scanner()
-        holder = roles.role_holder(scanner.obj)
-        ends = (App.Vector(holder.Emitter), App.Vector(holder.Receiver))
+        ends = scanner_ends(scene)
         count = scan.position_count
         first = [None] * len(layout.wafers)
         last = [None] * len(layout.wafers)
