@@ -8,6 +8,7 @@ what that code read and scanned from them (make_version1_documents.py): opened t
 migrated to version 2 and read and scan exactly the same."""
 
 import json
+import re
 import shutil
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -86,6 +87,18 @@ def test_half_the_thickness_is_the_box_not_ticked():
         App.closeDocument(doc.Name)
 
 
+_NUMBER = re.compile(r"-?\d+\.\d+(?:e-?\d+)?")
+
+
+def _same_repr(got, recorded):
+    """The same runs (or edges) as recorded: names and structure alike, every number within
+    1e-9 mm (the recording was made on FreeCAD 0.20.2; 1.0's OpenCASCADE differs in the last
+    digits of a bowed or tilted wafer's edges)."""
+    assert _NUMBER.sub("#", got) == _NUMBER.sub("#", recorded)
+    assert [float(x) for x in _NUMBER.findall(got)] == \
+        pytest.approx([float(x) for x in _NUMBER.findall(recorded)], abs=1e-9)
+
+
 def _opened(name, tmp_path):
     path = tmp_path / f"{name}.FCStd"
     shutil.copy(DATA / f"{name}.FCStd", path)
@@ -117,16 +130,20 @@ def test_a_version_1_document_is_migrated_and_scans_the_same(name, tmp_path):
         assert json.loads(json.dumps(asdict(read.mapping))) == expected["mapping"]
         result = scan_document(doc)
         assert result.code == expected["code"]
-        assert repr(result.runs) == expected["runs"] and repr(result.edges) == expected["edges"]
-        assert dict(result.durations) == expected["durations"]
-        # saved and opened again: nothing more to migrate
+        for got, recorded in ((repr(result.runs), expected["runs"]),
+                              (repr(result.edges), expected["edges"])):
+            _same_repr(got, recorded)
+        assert dict(result.durations) == pytest.approx(expected["durations"], abs=1e-12)
+        # recomputed, saved and opened again: nothing more to migrate (FreeCAD 1.0 saves an
+        # object's touched state, so the migrated document is recomputed first)
+        doc.recompute()
         again = tmp_path / "again.FCStd"
         doc.saveAs(str(again))
     finally:
         App.closeDocument(doc.Name)
     doc = App.openDocument(str(again))
     try:
-        assert not doc.isTouched()
+        assert not doc.isTouched() and _settings(doc).WaferScanVersion == 2
         assert scan_document(doc).code == expected["code"]
     finally:
         App.closeDocument(doc.Name)
