@@ -232,7 +232,7 @@ def test_save_and_reload_keep_roles_proxies_and_results(paper_doc, tmp_path):
 @pytest.mark.parametrize("prop, value, message", [
     ("FinalZ", 100.0, "ScanSettings: final_z (100) is below start_z (280)"),
     ("ScanSpeed", 0.0, "ScanSettings.ScanSpeed: must be greater than 0"),
-    ("SensorResponse", -0.001, "ScanSettings.SensorResponse: must not be negative"),
+    ("SensorResponseMs", -1.0, "ScanSettings.SensorResponseMs: must not be negative"),
     ("ZStep", 1e-9, "ScanSettings: z_step 1e-09 over 270 mm makes"),
 ])
 def test_scan_settings_typed_in_the_property_editor_are_checked(paper_doc, prop, value, message):

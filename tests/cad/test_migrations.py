@@ -42,7 +42,8 @@ def test_every_object_is_saved_with_its_version(saved):
     try:
         objects = _ours(doc)
         assert {type(o.Proxy) for o in objects} == set(PROXIES)
-        assert all(o.WaferScanVersion == type(o.Proxy).version == 1 for o in objects)
+        assert all(o.WaferScanVersion == type(o.Proxy).version for o in objects)
+        assert features.ScanSettings.version == 2  # issue 27 item 13: units, explicit "not set"
         assert not doc.isTouched()  # nothing to migrate: the document opens unchanged
     finally:
         App.closeDocument(doc.Name)
@@ -53,25 +54,25 @@ def test_a_renamed_property_is_migrated_on_open(saved, monkeypatch):
     doc = _open(path)
     try:
         settings = next(o for o in doc.Objects if isinstance(o.Proxy, features.ScanSettings))
-        response, step, mode = settings.SensorResponse, float(settings.ZStep), settings.Mode
+        response, step, mode = settings.SensorResponseMs, float(settings.ZStep), settings.Mode
     finally:
         App.closeDocument(doc.Name)
-    # The next version renames SensorResponse to ResponseTime and Mode (an enumeration) to
-    # ScanMode; ScanSettings' version 1 -> 2 says so.
-    monkeypatch.setattr(features.ScanSettings, "version", 2)
-    monkeypatch.setattr(features.ScanSettings, "migrations", {1: lambda obj: (
-        features.rename_property(obj, "SensorResponse", "ResponseTime"),
+    # The next version renames SensorResponseMs to ResponseTime and Mode (an enumeration) to
+    # ScanMode; ScanSettings' version 2 -> 3 says so.
+    monkeypatch.setattr(features.ScanSettings, "version", 3)
+    monkeypatch.setattr(features.ScanSettings, "migrations", {2: lambda obj: (
+        features.rename_property(obj, "SensorResponseMs", "ResponseTime"),
         features.rename_property(obj, "Mode", "ScanMode"))})
     doc = _open(path)
     try:
         settings = next(o for o in doc.Objects if isinstance(o.Proxy, features.ScanSettings))
-        assert "SensorResponse" not in settings.PropertiesList
+        assert "SensorResponseMs" not in settings.PropertiesList
         assert settings.ResponseTime == response
         assert settings.getGroupOfProperty("ResponseTime") == "WaferScan"
         assert "Mode" not in settings.PropertiesList and settings.ScanMode == mode
         assert settings.getEnumerationsOfProperty("ScanMode") == ["fast", "slow"]
         assert float(settings.ZStep) == step  # the others as they were
-        assert settings.WaferScanVersion == 2
+        assert settings.WaferScanVersion == 3
         others = [o for o in _ours(doc) if o is not settings]
         assert others and all(o.WaferScanVersion == 1 for o in others)
     finally:
@@ -90,7 +91,7 @@ def test_a_document_saved_before_versions_opens_at_today_s_version(saved, tmp_pa
         App.closeDocument(doc.Name)
     doc = _open(older)
     try:
-        assert all(o.WaferScanVersion == 1 for o in _ours(doc))
+        assert all(o.WaferScanVersion == type(o.Proxy).version for o in _ours(doc))
         assert scan_document(doc).code == code
     finally:
         App.closeDocument(doc.Name)

@@ -22,13 +22,15 @@ TYPED = {"SpotDiameter": "1 mm", "ThresholdOn": "0.6", "ThresholdOff": "0.4",
 
 
 def settings_values(doc):
-    """The ScanSettings object's §10 properties and SensorResponse, as numbers and text."""
+    """The ScanSettings object's §10 properties and SensorResponse, as numbers and text, by
+    the preferences' names and in their units (the document's times are in ms, named so)."""
+    from waferscan.cad.role_properties import PLAIN_NAMES, from_property
     obj = doc.getObject("ScanSettings")
     values = {}
-    for name in NAMES + ("SensorResponse",):
-        if name in obj.PropertiesList:
-            value = getattr(obj, name)
-            values[name] = float(getattr(value, "Value", value))
+    for name in NAMES:
+        prop = next((p for p, plain in PLAIN_NAMES.items() if plain == name), name)
+        if prop in obj.PropertiesList:
+            values[name] = from_property(prop, getattr(obj, prop))
     values["Latch"] = str(obj.Latch) if "Latch" in obj.PropertiesList else None
     return values
 

@@ -76,7 +76,7 @@ def after_jab():
     section = task_panel().sensor
     section.latch.setCurrentIndex(section.latch.findText("sampled"))
     result["sampled_bare"] = [section.apply(), section.message.text()]
-    for name, text in (("SamplePeriod", "0.002"), ("Acceleration", "1500"),
+    for name, text in (("SamplePeriodMs", "0.002"), ("Acceleration", "1500"),
                        ("SpotWidth", "2 mm"), ("SpotHeight", "0.5 mm")):
         section.fields[name].setText(text)
     result["sampled_applied"] = section.apply()

@@ -120,8 +120,8 @@ def scanned():
     doc = state["doc"]
     result["code"] = last_result(doc).code
     settings = [o for o in doc.Objects if getattr(o, "WaferScanRole", "") == "ScanSettings"][0]
-    result["settings"] = [settings.ThicknessTolerance, settings.PositionTolerance.Value,
-                          settings.ProtrusionLimit.Value]
+    result["settings"] = [settings.ThicknessTolerance.Value, settings.PositionTolerance.Value,
+                          settings.ProtrusionLimit.Value, settings.ThicknessToleranceSet]
     result["undo_names_after_scan"] = list(doc.UndoNames)
     window_shot("gui-own-solids.png")
     doc.saveAs(os.path.join(os.environ["WAFERSCAN_GUI_MCS"], "own-solids.FCStd"))

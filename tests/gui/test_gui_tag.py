@@ -49,7 +49,8 @@ def test_the_scan_of_tagged_solids_uses_the_preferences_and_agrees_headless(tagg
     assert gui["code"] == "10100"
     # No ScanSettings in the document: the scan added one, with the preferences' tolerances,
     # as its own undo step.
-    assert gui["settings"] == pytest.approx([0.25, 0.4064, 1.5])
+    assert gui["settings"][:3] == pytest.approx([0.25, 0.4064, 1.5])
+    assert gui["settings"][3] is True  # the preferences' 0.25 mm, not half the thickness
     assert "Add WaferScan scan settings" in gui["undo_names_after_scan"]
     assert gui["speed_from_preferences"] == 4.5
     with opened_layout(folder / "own-solids.FCStd") as doc:

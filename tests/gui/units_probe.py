@@ -79,15 +79,15 @@ def read_panel():
     recipe.load()  # as an Undo or Redo refills the fields from the document
     result["recipe_reloaded"] = {p: f.text() for p, f in recipe.fields.items()}
     sensor.latch.setCurrentIndex(sensor.latch.findText("sampled"))
-    sensor.fields["SamplePeriod"].setText("0,5 ms")
+    sensor.fields["SamplePeriodMs"].setText("0,5 ms")
     sensor.fields["Acceleration"].setText("2 m/s^2")
     result["sensor_applied"] = sensor.apply()
     result["sensor_message"] = sensor.message.text()
-    result["after_sensor"] = [number(stored.SamplePeriod), number(stored.Acceleration),
+    result["after_sensor"] = [number(stored.SamplePeriodMs), number(stored.Acceleration),
                               str(stored.Latch)]
     sensor.load()
     result["sensor_reloaded"] = {p: sensor.fields[p].text()
-                                 for p in ("SamplePeriod", "Acceleration")}
+                                 for p in ("SamplePeriodMs", "Acceleration")}
     window_shot("gui-units-inch-applied.png")
     panel.animation.stop()
     Gui.Control.closeDialog()
@@ -121,7 +121,67 @@ def old_document():
                            obj.ThicknessMax, obj.DoubleThreshold, doc.UndoCount - undo_before]
     mapping = read_layout(doc).mapping
     result["old_read"] = [mapping.thickness_min, mapping.thickness_max, mapping.double_threshold]
+    version1_document()
+
+
+# The properties of issue 27 item 13's leftovers, as the property editor shows them.
+EDITOR = ("SensorResponseMs", "SamplePeriodMs", "WristSpeedDegPerS", "WristAccelerationDegPerS2",
+          "ThicknessTolerance", "ThicknessToleranceSet", "PositionTolerance")
+
+
+def editor_texts():
+    """{property: (its name as the Data tab shows it, the value's text)} of the selected
+    object, read from FreeCAD's property editor (every tree view of two columns)."""
+    from PySide import QtGui
+
+    texts = {}
+    for view in Gui.getMainWindow().findChildren(QtGui.QTreeView):
+        model = view.model()
+        if model is None or model.columnCount() != 2:
+            continue
+        pending = [QtCore.QModelIndex()]
+        while pending:
+            parent = pending.pop()
+            for row in range(model.rowCount(parent)):
+                name = model.index(row, 0, parent)
+                pending.append(name)
+                shown = str(model.data(name, QtCore.Qt.DisplayRole) or "")
+                key = shown.replace(" ", "")
+                if key in EDITOR and key not in texts:
+                    value = model.index(row, 1, parent)
+                    texts[key] = [shown, str(model.data(value, QtCore.Qt.DisplayRole))]
+    return texts
+
+
+def version1_document():
+    """A document saved by the code before (ScanSettings version 1: times in s, the thickness
+    tolerance a float) opened in the GUI: migrated, its ScanSettings shown in the property
+    editor under the inch schema."""
+    import shutil
+
+    source = os.path.join(os.path.dirname(os.environ["WAFERSCAN_GUI_PROBES"]), "data",
+                          "documents", "explicit.FCStd")
+    path = artifact("version1-explicit.FCStd")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    shutil.copy(source, path)
+    doc = App.openDocument(path)
+    state["doc"] = doc
+    obj = doc.getObject("ScanSettings")
+    result["version1"] = [obj.WaferScanVersion, obj.SensorResponseMs, obj.SamplePeriodMs,
+                          obj.ThicknessTolerance.Value, obj.ThicknessToleranceSet]
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj)
+    wait_for("the property editor", lambda: len(editor_texts()) == len(EDITOR), shown)
+
+
+def shown():
+    result["editor"] = editor_texts()
+    window_shot("gui-units-inch-property-editor.png")
+    App.closeDocument(state["doc"].Name)
     finish()
+
+
+state = {}
 
 
 start(begin)

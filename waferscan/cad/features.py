@@ -17,8 +17,8 @@ import FreeCAD as App
 import Part
 
 from ..core.model import DIRECTIONS, MODES
-from ..core.rules import stored_thickness_tolerance
 from . import roles
+from .role_properties import PLAIN_NAMES, PER_CORE_UNIT, SETTINGS, property_named, to_property
 
 
 def object_name(text):
@@ -207,9 +207,46 @@ class following_carrier:  # noqa: N801 (used as a ``with`` block)
         _following.pop()
 
 
+# What version 1 of ScanSettings held as a float: the thickness tolerance in mm, a negative
+# value meaning "half the nominal wafer thickness".
+OLD_HALF_THICKNESS = -1.0
+
+
+def _units_and_not_set(obj):
+    """ScanSettings' migration 1 -> 2 (issue 27 item 13): the times become ms with the unit in
+    their name (SensorResponse in s -> SensorResponseMs, SamplePeriod -> SamplePeriodMs), the
+    wrist's rates name theirs (WristSpeed -> WristSpeedDegPerS, WristAcceleration ->
+    WristAccelerationDegPerS2), and ThicknessTolerance, a float in mm whose negative value meant
+    half the thickness, becomes a length with ThicknessToleranceSet beside it. What the document
+    scans is unchanged."""
+    for new, old in PLAIN_NAMES.items():
+        if old not in obj.PropertiesList or new in obj.PropertiesList:
+            continue
+        value = float(getattr(obj, old)) * PER_CORE_UNIT.get(new, 1.0)
+        obj.removeProperty(old)
+        prop = property_named(SETTINGS, new)
+        roles.add_property(obj, prop.kind, new, prop.tip, value)
+    if "ThicknessTolerance" in obj.PropertiesList and \
+            obj.getTypeIdOfProperty("ThicknessTolerance") == "App::PropertyFloat":
+        old = float(obj.ThicknessTolerance)
+        obj.removeProperty("ThicknessTolerance")
+        _add_thickness_tolerance(obj, None if old < 0.0 else old)
+
+
+def _add_thickness_tolerance(obj, tolerance):
+    """ThicknessTolerance (mm) and ThicknessToleranceSet: None is half the wafer thickness."""
+    for name, value in (("ThicknessTolerance", tolerance or 0.0),
+                        ("ThicknessToleranceSet", tolerance is not None)):
+        prop = property_named(SETTINGS, name)
+        roles.add_property(obj, prop.kind, name, prop.tip, value)
+
+
 class ScanSettings(_Proxy):
     """The scan's parameters and mapping tolerances, stored in the document. A range that
     follows the carrier (RangeFromCarrier) stops following it once the user sets it."""
+
+    version = 2
+    migrations = {1: _units_and_not_set}
 
     def onChanged(self, obj, prop):  # noqa: N802 (FreeCAD's name)
         if (prop in ("StartZ", "FinalZ") and not _following
@@ -263,7 +300,8 @@ SETTINGS_PROPERTIES = (
     ("FinalZ", "App::PropertyDistance", "final_z", "Scan position of the last step"),
     ("ZStep", "App::PropertyLength", "z_step", "Step between scan positions; 0 for exact edges"),
     ("ScanSpeed", "App::PropertySpeed", "scan_speed", "Speed of a fast scan"),
-    ("SensorResponse", "App::PropertyFloat", "sensor_response", "Sensor response time in s"),
+    ("SensorResponseMs", "App::PropertyFloat", "sensor_response",
+     property_named(SETTINGS, "SensorResponseMs").tip),
     ("PositionTolerance", "App::PropertyLength", "position_tolerance", "Slot position tolerance"),
     ("ProtrusionLimit", "App::PropertyLength", "protrusion_limit", "Protrusion limit"),
 )
@@ -277,7 +315,7 @@ def make_settings(doc, scan, mapping, carrier, range_from_carrier=False):
     roles.set_role(obj, roles.SETTINGS)
     for prop, kind, field, tip in SETTINGS_PROPERTIES:
         source = mapping if hasattr(mapping, field) else scan
-        roles.add_property(obj, kind, prop, tip, getattr(source, field))
+        roles.add_property(obj, kind, prop, tip, to_property(prop, getattr(source, field)))
     roles.add_property(obj, "App::PropertyEnumeration", "Mode", "fast: one stroke; slow: pocket "
                        "by pocket")
     obj.Mode = list(MODES)
@@ -285,9 +323,7 @@ def make_settings(doc, scan, mapping, carrier, range_from_carrier=False):
     roles.add_property(obj, "App::PropertyEnumeration", "Direction", "Direction of a fast scan")
     obj.Direction = list(DIRECTIONS)
     obj.Direction = scan.direction
-    roles.add_property(obj, "App::PropertyFloat", "ThicknessTolerance",
-                       "Wafer thickness tolerance in mm; negative: half the nominal thickness",
-                       stored_thickness_tolerance(mapping.thickness_tolerance))
+    _add_thickness_tolerance(obj, mapping.thickness_tolerance)
     roles.add_property(obj, "App::PropertyString", "Carrier", "Name (label) of the carrier to scan",
                        carrier or "")
     if range_from_carrier:

@@ -22,7 +22,7 @@ from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem, slots_scan_r
 from . import roles
 from .disc import NotADisc, bowed_disc_of, disc_of
 from .features import RANGE_FROM_CARRIER, SETTINGS_PROPERTIES
-from .role_properties import SENSOR_PROPERTIES, SLOW_SCAN_PROPERTIES
+from .role_properties import SENSOR_PROPERTIES, SLOW_SCAN_PROPERTIES, from_property
 from .scene import scene_instances
 from .sensor_properties import read_sensor_settings
 
@@ -159,7 +159,7 @@ def _settings(scene, beam, carriers):
     for prop, _, field, _ in SETTINGS_PROPERTIES:
         if prop in obj.PropertiesList:
             try:  # a value typed into the property editor is checked as a scenario's would be
-                values[field] = checks[field](_value(getattr(obj, prop)))
+                values[field] = checks[field](from_property(prop, getattr(obj, prop)))
             except ValueError as exc:
                 raise scene.error(f"{obj.Label}.{prop}: {exc}") from None
     followed = _followed_carrier(obj, carriers)
@@ -176,8 +176,16 @@ def _settings(scene, beam, carriers):
     from . import slow_scan_properties  # SPEC §13: Jab, Sweep and the arm's motion
 
     scan = slow_scan_properties.read(obj, scan, scene.error)
-    tolerance = float(obj.ThicknessTolerance)
-    mapping = MappingTolerances(thickness_tolerance=thickness_tolerance_from_stored(tolerance),
+    tolerance = None  # not set: half the nominal wafer thickness (SPEC §4)
+    if "ThicknessToleranceSet" not in obj.PropertiesList:  # not migrated (features.ScanSettings)
+        tolerance = thickness_tolerance_from_stored(float(obj.ThicknessTolerance))
+    elif obj.ThicknessToleranceSet:
+        try:
+            tolerance = schema.MAPPING_KEYS["thickness_tolerance"](
+                float(obj.ThicknessTolerance))
+        except ValueError as exc:
+            raise scene.error(f"{obj.Label}.ThicknessTolerance: {exc}") from None
+    mapping = MappingTolerances(thickness_tolerance=tolerance,
                                 **{k: v for k, v in values.items()
                                    if k in MappingTolerances.__dataclass_fields__})
     from . import recipe_properties  # SPEC §11: the mapping recipe

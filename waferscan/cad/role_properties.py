@@ -63,14 +63,19 @@ SETTINGS = (
     RoleProperty("ZStep", "App::PropertyLength", "mm",
                  "Step between scan positions; 0 for exact edges"),
     RoleProperty("ScanSpeed", "App::PropertySpeed", "mm/s", "Speed of a fast scan"),
-    RoleProperty("SensorResponse", "App::PropertyFloat", "s", "Sensor response time in s"),
+    RoleProperty("SensorResponseMs", "App::PropertyFloat", "ms",
+                 "Sensor response time in ms (0: an ideal sensor, no delay)"),
     RoleProperty("PositionTolerance", "App::PropertyLength", "mm", "Slot position tolerance"),
     RoleProperty("ProtrusionLimit", "App::PropertyLength", "mm", "Protrusion limit"),
     RoleProperty("Mode", "App::PropertyEnumeration", "",
                  "fast: one stroke; slow: pocket by pocket"),
     RoleProperty("Direction", "App::PropertyEnumeration", "", "Direction of a fast scan"),
-    RoleProperty("ThicknessTolerance", "App::PropertyFloat", "mm",
-                 "Wafer thickness tolerance in mm; negative: half the nominal thickness"),
+    RoleProperty("ThicknessTolerance", "App::PropertyLength", "mm",
+                 "Wafer thickness tolerance (used when ThicknessToleranceSet is ticked; "
+                 "otherwise half the nominal wafer thickness)"),
+    RoleProperty("ThicknessToleranceSet", "App::PropertyBool", "",
+                 "Ticked: ThicknessTolerance is the tolerance; not ticked: half the nominal "
+                 "wafer thickness"),
     RoleProperty("Carrier", "App::PropertyString", "", "Name (label) of the carrier to scan"),
 )
 
@@ -78,9 +83,10 @@ SETTINGS = (
 # kind, key or field, tooltip): cad/sensor_properties.py and cad/slow_scan_properties.py add and
 # read them.
 _UNITS = {"SpotDiameter": "mm", "SpotWidth": "mm", "SpotHeight": "mm", "ThresholdOn": "",
-          "ThresholdOff": "", "Acceleration": "mm/s²", "SamplePeriod": "s", "Jab": "mm",
+          "ThresholdOff": "", "Acceleration": "mm/s²", "SamplePeriodMs": "ms", "Jab": "mm",
           "Sweep": "deg", "SweepRadius": "mm", "ArmSpeed": "mm/s", "ArmAcceleration": "mm/s²",
-          "WristSpeed": "deg/s", "WristAcceleration": "deg/s²"}
+          "WristSpeedDegPerS": "deg/s",
+          "WristAccelerationDegPerS2": "deg/s²"}
 
 
 # (property, kind, key of core.sensor.settings, tooltip). Zero means "not set" for the spot's
@@ -96,8 +102,9 @@ SENSOR_PROPERTIES = (
      "Blocked fraction below which it turns OFF again (<= ThresholdOn: hysteresis)"),
     ("Acceleration", "App::PropertyAcceleration", "acceleration",
      "Acceleration of the scan stroke; 0: full speed at once"),
-    ("SamplePeriod", "App::PropertyFloat", "sample_period",
-     "Period in s at which the controller reads the sensor (latch = sampled)"),
+    ("SamplePeriodMs", "App::PropertyFloat", "sample_period",
+     "Period in ms at which the controller reads the sensor: used when Latch is sampled, "
+     "which needs it greater than 0 (0: none given)"),
 )
 
 LATCH_TIP = ("step: edges on the step grid; encoder: latched in motion after the sensor's "
@@ -113,9 +120,10 @@ SLOW_SCAN_PROPERTIES = (
     ("ArmSpeed", "App::PropertySpeed", "arm_speed", "Speed of the jab's straight advance"),
     ("ArmAcceleration", "App::PropertyAcceleration", "arm_acceleration",
      "Acceleration of the jab's straight advance"),
-    ("WristSpeed", "App::PropertyFloat", "wrist_speed", "Speed of the sweep in degrees/s"),
-    ("WristAcceleration", "App::PropertyFloat", "wrist_acceleration",
-     "Acceleration of the sweep in degrees/s²"),
+    ("WristSpeedDegPerS", "App::PropertyFloat", "wrist_speed",
+     "Speed of the sweep's wrist turn in degrees per second (°/s)"),
+    ("WristAccelerationDegPerS2", "App::PropertyFloat", "wrist_acceleration",
+     "Acceleration of the sweep's wrist turn in degrees per second squared (°/s²)"),
 )
 
 # SPEC §11's recipe (core/recipe.py), as (property, kind, key, tooltip): cad/recipe_properties.py
@@ -158,6 +166,29 @@ SETTINGS += tuple(RoleProperty(name, kind, "" if key in ("rules", "thickness_cor
                                else "mm", tip) for name, kind, key, tip in RECIPE_PROPERTIES)
 SETTINGS += tuple(RoleProperty(name, "App::PropertyBool", "", tip)
                   for name, _, tip in RECIPE_SET_PROPERTIES)
+
+# Times and the wrist's rates are App::PropertyFloat with their unit in the name, as FreeCAD
+# has no property for them in both versions: 0.20.2 has no App::PropertyTime (1.0 has), and
+# neither has an angular speed or acceleration (an App::PropertyQuantity's unit is not saved
+# with the document). Times are in ms, not s: the property editor shows a float with the unit
+# schema's decimals (2 by default), which would show a 0.25 ms response as "0.00" s.
+# {property: how many of its unit make one of the core's (s for times)}.
+PER_CORE_UNIT = {"SensorResponseMs": 1000.0, "SamplePeriodMs": 1000.0}
+# The names these properties had before (documents saved until then: features.ScanSettings
+# migrates them on open), which are also their keywords in recorded lines (sample_period=...).
+PLAIN_NAMES = {"SensorResponseMs": "SensorResponse", "SamplePeriodMs": "SamplePeriod",
+               "WristSpeedDegPerS": "WristSpeed", "WristAccelerationDegPerS2": "WristAcceleration"}
+
+
+def to_property(prop, value):
+    """The value a property holds for a core value (a time in s becomes ms)."""
+    return value * PER_CORE_UNIT.get(prop, 1.0)
+
+
+def from_property(prop, value):
+    """The core value of what a property holds (or a quantity's Value): ms become s."""
+    return float(getattr(value, "Value", value)) / PER_CORE_UNIT.get(prop, 1.0)
+
 
 BY_ROLE = {"Wafer": (), "Carrier": CARRIER, "Scanner": SCANNER, "Robot": ROBOT,
            "ScanSettings": SETTINGS}

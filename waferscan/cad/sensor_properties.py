@@ -13,7 +13,7 @@ from ..core.sensor.motion import LATCHES
 from . import roles
 
 # (property, kind, key of core.sensor.settings, tooltip), listed with the role's other properties
-from .role_properties import LATCH_TIP, SENSOR_PROPERTIES
+from .role_properties import LATCH_TIP, SENSOR_PROPERTIES, from_property, to_property
 
 
 def add_sensor_properties(obj, layout):
@@ -28,15 +28,11 @@ def add_sensor_values(obj, values):
         value = values[key]
         if key == "acceleration" and math.isinf(value):
             value = 0.0
-        roles.add_property(obj, kind, prop, tip, value)
+        roles.add_property(obj, kind, prop, tip, to_property(prop, value))
     roles.add_property(obj, "App::PropertyEnumeration", "Latch",
                        LATCH_TIP)
     obj.Latch = list(LATCHES)
     obj.Latch = values["latch"]
-
-
-def _number(quantity):
-    return float(getattr(quantity, "Value", quantity))
 
 
 def read_sensor_settings(scene, layout):
@@ -49,7 +45,7 @@ def read_sensor_settings(scene, layout):
     for prop, _, key, _ in SENSOR_PROPERTIES:
         if prop not in obj.PropertiesList:
             continue
-        number = _number(getattr(obj, prop))
+        number = from_property(prop, getattr(obj, prop))
         if number == 0.0 and key in ("acceleration", "sample_period", "spot_diameter",
                                      "spot_width", "spot_height"):
             continue  # not set

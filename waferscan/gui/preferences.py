@@ -25,13 +25,36 @@ def _group():
     return App.ParamGet(PARAMETERS)
 
 
+# "Half the nominal wafer thickness" is a box of its own (HalfThickness, a bool parameter),
+# ThicknessTolerance the length in mm used when it is not ticked (kept while it is). Earlier
+# versions stored only ThicknessTolerance, a negative value meaning half the thickness: without
+# HalfThickness, that is what is read.
+HALF_THICKNESS = "HalfThickness"
+
+
+def half_thickness(group=None):
+    """Whether the preferred thickness tolerance is half the nominal wafer thickness."""
+    group = group or _group()
+    stored = group.GetFloat("ThicknessTolerance", HALF_THICKNESS_STORED)
+    if HALF_THICKNESS in group.GetBools():
+        return group.GetBool(HALF_THICKNESS) or stored < 0.0
+    return thickness_tolerance_from_stored(stored) is None
+
+
+def stored_thickness_tolerance():
+    """The length (mm) stored for the thickness tolerance, ticked or not; None when none is
+    (an earlier version's "half the thickness")."""
+    return thickness_tolerance_from_stored(
+        _group().GetFloat("ThicknessTolerance", HALF_THICKNESS_STORED))
+
+
 def mapping_tolerances():
     """The default MappingTolerances: the preferences', FreeCAD's parameters being the store.
-    A negative thickness tolerance means "half the nominal thickness" (the core's None)."""
+    HalfThickness ticked (or an earlier version's negative ThicknessTolerance) is "half the
+    nominal thickness" (the core's None)."""
     group = _group()
-    thickness = group.GetFloat("ThicknessTolerance", HALF_THICKNESS_STORED)
     return MappingTolerances(
-        thickness_tolerance=thickness_tolerance_from_stored(thickness),
+        thickness_tolerance=None if half_thickness(group) else stored_thickness_tolerance(),
         position_tolerance=group.GetFloat("PositionTolerance", _DEFAULTS.position_tolerance),
         protrusion_limit=group.GetFloat("ProtrusionLimit", _DEFAULTS.protrusion_limit))
 
@@ -46,10 +69,17 @@ def playback_seconds():
 
 
 def set_values(thickness_tolerance=None, position_tolerance=None, protrusion_limit=None,
-               folder=None, speed=None):
-    """Store the given preferences (None leaves one as it is)."""
+               folder=None, speed=None, half=None):
+    """Store the given preferences (None leaves one as it is): ``half`` True or False ticks or
+    unticks "half the nominal wafer thickness", ``thickness_tolerance`` (mm) is the tolerance
+    used when it is not ticked."""
     group = _group()
+    if half is not None:
+        group.SetBool(HALF_THICKNESS, bool(half))
     if thickness_tolerance is not None:
+        if thickness_tolerance < 0.0:
+            raise ValueError(f"a thickness tolerance cannot be negative, got "
+                             f"{thickness_tolerance:g} mm (half=True: half the thickness)")
         group.SetFloat("ThicknessTolerance", float(thickness_tolerance))
     if position_tolerance is not None:
         group.SetFloat("PositionTolerance", float(position_tolerance))
@@ -139,8 +169,8 @@ class PreferencesPage:
     def loadSettings(self):
         mapping = mapping_tolerances()
         self.half_thickness.setChecked(mapping.thickness_tolerance is None)
-        set_length(self.thickness, 0.35 if mapping.thickness_tolerance is None
-                   else mapping.thickness_tolerance)
+        kept = stored_thickness_tolerance()  # the length kept while the box is ticked
+        set_length(self.thickness, 0.35 if kept is None else kept)
         set_length(self.position, mapping.position_tolerance)
         set_length(self.protrusion, mapping.protrusion_limit)
         self.folder.setText(mcs_folder())
@@ -227,9 +257,7 @@ class PreferencesPage:
             return
         half = self.half_thickness.isChecked()
         thickness = None
-        if half and not self._loaded.get("half"):
-            thickness = HALF_THICKNESS_STORED
-        elif not half and (self._loaded.get("half") or self.thickness.edited()):
+        if not half and (self._loaded.get("half") or self.thickness.edited()):
             thickness = length_value(self.thickness)
         speed = self.speed.value()
         folder = self.folder.text().strip()
@@ -239,7 +267,8 @@ class PreferencesPage:
                    protrusion_limit=length_value(self.protrusion)
                    if self.protrusion.edited() else None,
                    folder=folder if folder != self._loaded.get("folder", "").strip() else None,
-                   speed=speed if speed != self._shown_speed else None)
+                   speed=speed if speed != self._shown_speed else None,
+                   half=half if half != self._loaded.get("half") else None)
         self.sensor.save()
 
 

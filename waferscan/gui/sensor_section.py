@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from PySide import QtGui
 
+from ..cad.role_properties import PLAIN_NAMES, from_property, to_property
 from ..core.errors import InputError
 from ..core.sensor.motion import LATCHES
 from .inputs import QuantityField, normalise, value_in
@@ -22,23 +23,29 @@ __all__ = ["SensorSection", "apply_sensor_settings"]
 
 # (property, label, kind): the lengths, the acceleration and the sweep's angle are quantities in
 # the user's unit schema (typed in any unit), the read period a time in s, ms or µs (FreeCAD 0.20
-# has no time unit), the thresholds bare fractions. The slit's sizes, the stroke's acceleration
+# has no time unit; the property, SamplePeriodMs, holds ms), the thresholds bare fractions. The slit's sizes, the stroke's acceleration
 # (0: full speed at once) and the read period (needed by latch = sampled) complete SPEC §10's
 # settings.
 FIELDS = (("SpotDiameter", "Spot ⌀", "length"), ("SpotWidth", "Slit width", "length"),
           ("SpotHeight", "Slit height", "length"), ("ThresholdOn", "On at", "number"),
           ("ThresholdOff", "Off at", "number"), ("Acceleration", "Acceleration", "acceleration"),
-          ("SamplePeriod", "Sample period", "time"), ("Jab", "Jab", "length"),
+          ("SamplePeriodMs", "Sample period", "time"), ("Jab", "Jab", "length"),
           ("Sweep", "Sweep", "angle"))
 # Each kind's unit in a recorded line (the properties' own); thresholds are bare fractions.
 UNITS = {"length": "mm", "acceleration": "mm/s^2", "time": "s", "angle": "deg", "number": ""}
-KEYWORDS = {keyword(prop): (prop, kind) for prop, _, kind in FIELDS}
+# A property's keyword in a recorded line: its name without the unit (sample_period, in s).
+KEYWORDS = {keyword(PLAIN_NAMES.get(prop, prop)): (prop, kind) for prop, _, kind in FIELDS}
 UNDO_NAME = "WaferScan sensor and slow scan"
 MISSING = "No ScanSettings with these properties: Run scan adds them."
 
 
 def _number(value):
     return float(getattr(value, "Value", value))
+
+
+def _shown(prop, value):
+    """A field's value (a time in s) for a property's (SamplePeriodMs in ms)."""
+    return from_property(prop, value)
 
 
 class SensorSection(SettingsSection):
@@ -74,7 +81,7 @@ class SensorSection(SettingsSection):
 
     def fill(self, obj):
         for prop, _, kind in FIELDS:
-            value = _number(getattr(obj, prop))
+            value = _shown(prop, getattr(obj, prop))
             if kind == "number":
                 self.fields[prop].setText(f"{value:g}")
             else:
@@ -82,14 +89,15 @@ class SensorSection(SettingsSection):
         self.latch.setCurrentIndex(self.latch.findText(str(obj.Latch)))
 
     def values(self):
-        """{property: value} typed in the fields (mm, mm/s², degrees, s); ValueError naming the
-        field when one is not a number (a quantity of its kind for the quantity fields)."""
+        """{property: value} typed in the fields, in the properties' units (mm, mm/s², degrees,
+        ms); ValueError naming the field when one is not a number (a quantity of its kind for the
+        quantity fields)."""
         values = {}
         for prop, label, kind in FIELDS:
             field = self.fields[prop]
             try:
                 values[prop] = float(normalise(field.text())) if kind == "number" else \
-                    field.value()
+                    to_property(prop, field.value())
             except ValueError as exc:
                 why = f"{field.text()!r} is not a number" if kind == "number" else str(exc)
                 raise ValueError(f"{label}: {why}") from None
@@ -105,9 +113,9 @@ class SensorSection(SettingsSection):
         kinds = {prop: kind for prop, _, kind in FIELDS}
         for prop in changed:
             kind = kinds.get(prop)
-            value = values[prop]
+            value = values[prop] if kind is None else _shown(prop, values[prop])
             text = repr(value) if kind in (None, "number") else quantity_ref(value, UNITS[kind])
-            arguments.append(f"{keyword(prop)}={text}")
+            arguments.append(f"{keyword(PLAIN_NAMES.get(prop, prop))}={text}")
         return f"apply_sensor_settings({', '.join(arguments)})"
 
 
@@ -132,5 +140,5 @@ def apply_sensor_settings(doc, **settings):
             raise InputError(name, None, "not a setting of the sensor or the slow scan (one of "
                                          f"{', '.join([*KEYWORDS, 'latch'])})")
         prop, kind = KEYWORDS[name]
-        values[prop] = value_in(value, UNITS[kind], name)
+        values[prop] = to_property(prop, value_in(value, UNITS[kind], name))
     return write_settings(doc, values, UNDO_NAME, MISSING)
