@@ -56,4 +56,31 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
         else:
             from .brep import brep_stepper  # Part's B-rep tools load only for this engine
             stepper = brep_stepper(scene, mover)
-    return scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)
+    result = scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)
+    return with_clearance(scene, result)
+
+
+def with_clearance(scene, result):
+    """The result with SPEC §15's clearance check of its motions: by the document's robot
+    (its URDF's collision geometry, in its taught start pose) or, without one, the scanner's
+    heads; each contact a warning. Unchanged when coal (which ships with pin) is missing."""
+    from dataclasses import replace
+
+    from ..addon import pinocchio_available
+
+    if not pinocchio_available():
+        return result
+    from ..core.mapping import UNSCANNED
+    from ..robot.clearance import RobotBody, ScannerBody, clearance_for
+
+    layout = result.layout
+    if scene.robots:
+        from .robot import RobotMover
+
+        mover = RobotMover(scene, layout)
+        body = RobotBody(layout, mover.robot, mover.base, mover.start)
+    else:
+        body = ScannerBody(layout)
+    pockets = [s.slot for s in result.slot_map.slots if s.state != UNSCANNED]
+    report = clearance_for(layout, body, pockets)
+    return replace(result, clearance=report, warnings=result.warnings + report.warnings())

@@ -266,6 +266,8 @@ SETTINGS_PROPERTIES = (
     ("SensorResponse", "App::PropertyFloat", "sensor_response", "Sensor response time in s"),
     ("PositionTolerance", "App::PropertyLength", "position_tolerance", "Slot position tolerance"),
     ("ProtrusionLimit", "App::PropertyLength", "protrusion_limit", "Protrusion limit"),
+    ("ClearanceMin", "App::PropertyLength", "clearance_min",
+     "Least distance the robot may come to a wafer along any motion of the scan (SPEC 15)"),
 )
 
 

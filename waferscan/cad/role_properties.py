@@ -66,6 +66,9 @@ SETTINGS = (
     RoleProperty("SensorResponse", "App::PropertyFloat", "s", "Sensor response time in s"),
     RoleProperty("PositionTolerance", "App::PropertyLength", "mm", "Slot position tolerance"),
     RoleProperty("ProtrusionLimit", "App::PropertyLength", "mm", "Protrusion limit"),
+    RoleProperty("ClearanceMin", "App::PropertyLength", "mm",
+                 "Least distance the robot may come to a wafer along any motion of the scan "
+                 "(SPEC 15)"),
     RoleProperty("Mode", "App::PropertyEnumeration", "",
                  "fast: one stroke; slow: pocket by pocket"),
     RoleProperty("Direction", "App::PropertyEnumeration", "", "Direction of a fast scan"),
