@@ -9,11 +9,14 @@ answers its questions (``nearest``, ``path``, ``swept``), so ``waferscan/core`` 
 - A flat wafer is a coal ``Cylinder``. A bowed wafer (core/geometry/bow.py) is the convex hull of
   its rim circles and its two surfaces sampled on rings, each ring's polygon circumscribing its
   circle and each surface point raised outwards by the sampling's sagitta, so the hull holds the
-  solid: a distance to it is never more than the true one (conservative, by at most ~0.02 mm for
-  a 300 mm wafer).
+  solid: a distance to it is never more than the true one (conservative, by at most ~0.05 mm for
+  a 300 mm wafer). The hull is that of a dome or a bowl: from its open side (above a
+  bowl, below a dome) it reaches up to the bow nearer than the solid.
 - A translation along the lift (a fast stroke, a pocket's Z steps) is answered exactly in one
   piece (``swept``): a box, cylinder or sphere that moves along its own Z axis sweeps a longer
-  box, cylinder or a capsule, and the least distance to it is the least along the motion.
+  box, cylinder or a capsule, and the least distance to it is the least along the motion. When
+  the swept shapes overlap a wafer the core's Lipschitz search answers instead, so that a
+  contact's distance is the signed distance at one position.
 - The jab and the sweep turn links: ``path`` bounds how far any point moves (the sweep: the
   wrist's turn times the fork's reach, exact; the jab: each arm joint's change times the reach
   from its axis, joint values taken to move monotonically between the search's samples), and
@@ -39,7 +42,7 @@ from .kinematics import MM, WaferRobot  # noqa: E402
 
 HEAD_RADIUS = 3.0  # mm: the scanner's emitter and receiver heads (cad/features.ScannerBeam)
 BOW_RINGS = 24  # rings of a bowed wafer's surfaces
-BOW_SIDES = 256  # points on each ring
+BOW_SIDES = 128  # points on each ring (coal's hull allows a vertex at most 255 neighbours)
 
 
 def _frame_z(axis):
@@ -66,9 +69,10 @@ def _bowed_hull(wafer):
         r = dr * i
         w = bow * (1.0 - r * r / (radius * radius))
         for z in (w - sagitta, w + t + sagitta):
-            ring = [(0.0, 0.0)] if i == 0 else zip(r * grow * np.cos(angles),
-                                                    r * grow * np.sin(angles))
-            for x, y in ring:
+            # The centre as a small ring (a single point would neighbour every point of the
+            # first ring); the sagitta covers the height it misses.
+            r_ring = 0.25 * dr if i == 0 else r
+            for x, y in zip(r_ring * grow * np.cos(angles), r_ring * grow * np.sin(angles)):
                 points.append(np.array([x, y, z]))
     hull = coal.Convex.convexHull(points, False, "")
     bound = math.hypot(radius * grow, abs(bow) + t + sagitta)
@@ -208,6 +212,10 @@ class _Body:
                           translation + 0.5 * travel * direction, moves))
             halves[name] = (translation, _half_length(geometry))
         d, part, obstacle, slot, witness = self._nearest(swept)
+        if d <= 0.0:
+            # Overlapping: a swept shape's depth is not the least depth at one position, so
+            # the Lipschitz search answers (its contact is a position's own signed distance).
+            return None
         position = motion.start
         if part in halves and witness is not None:
             origin, half = halves[part]
