@@ -17,7 +17,7 @@ from waferscan.core.files.scenario import read_scenario
 from waferscan.core.model import Wafer
 from waferscan.core.scan import clearance as core
 from waferscan.core.scan.layout_scan import scan_layout
-from waferscan.robot.clearance import RobotBody, ScannerBody, clearance_for
+from waferscan.robot.clearance import RobotBody, clearance_for
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = read_scenario(ROOT / "resources" / "examples" / "paper.toml")
