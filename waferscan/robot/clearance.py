@@ -26,6 +26,7 @@ answers its questions (``nearest``, ``path``, ``swept``), so ``waferscan/core`` 
 from __future__ import annotations
 
 import math
+import os
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
@@ -38,7 +39,7 @@ import pinocchio as pin  # noqa: E402
 
 from ..core.scan import clearance as core  # noqa: E402
 from ..core.scan import slow_scan  # noqa: E402
-from .kinematics import MM, WaferRobot  # noqa: E402
+from .kinematics import MM, WaferRobot, bundled_urdf  # noqa: E402
 
 HEAD_RADIUS = 3.0  # mm: the scanner's emitter and receiver heads (cad/features.ScannerBeam)
 BOW_RINGS = 24  # rings of a bowed wafer's surfaces
@@ -46,13 +47,19 @@ BOW_SIDES = 128  # points on each ring (coal's hull allows a vertex at most 255 
 
 
 def _frame_z(axis):
-    """A rotation whose third column is the unit ``axis``."""
-    z = np.asarray(axis, dtype=float)
-    z = z / np.linalg.norm(z)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = np.cross(helper, z)
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
+    """A rotation whose third column is the unit ``axis`` (scalar arithmetic: numpy's cross
+    costs more than the rest of a wafer's set-up)."""
+    ax, ay, az = (float(v) for v in axis)
+    n = math.sqrt(ax * ax + ay * ay + az * az)
+    ax, ay, az = ax / n, ay / n, az / n
+    if abs(ax) < 0.9:  # x = (1, 0, 0) x z
+        x = (0.0, -az, ay)
+    else:  # x = (0, 1, 0) x z
+        x = (az, 0.0, -ax)
+    m = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+    x = (x[0] / m, x[1] / m, x[2] / m)
+    y = (ay * x[2] - az * x[1], az * x[0] - ax * x[2], ax * x[1] - ay * x[0])
+    return np.array([[x[0], y[0], ax], [x[1], y[1], ay], [x[2], y[2], az]])
 
 
 def _bowed_hull(wafer):
@@ -229,37 +236,22 @@ class _Body:
 
 class RobotBody(_Body):
     """The robot's collision geometry (its URDF's <collision> boxes, cylinders and spheres) as
-    its joints move through a scan of the layout. ``robot``, ``base`` ((x, y, z) mm, yaw deg)
+    its joints move through a scan of the layout. ``urdf`` (None: the bundled robot), ``base``
+    ((x, y, z) mm, yaw deg)
     and ``start`` (the taught start pose's joint values) default to the layout's [robot]."""
 
-    def __init__(self, layout, robot=None, base=None, start=None):
+    def __init__(self, layout, urdf=None, base=None, start=None):
         super().__init__(layout)
         spec = layout.robot
-        self.robot = robot or WaferRobot(spec.urdf if spec is not None else None)
+        if urdf is None and spec is not None:
+            urdf = spec.urdf
+        self.robot, self.geometry, self.geometry_data, self.parts = collision_model(urdf)
         if base is None:
             base = (tuple(spec.base), spec.base_yaw) if spec is not None \
                 else ((0.0, 0.0, 0.0), 0.0)
         self.base = base
         self.start = dict(start) if start is not None else self.robot.teach_start_pose(
             base, layout.beam.emitter, layout.beam.direction)
-        model = self.robot.model
-        self.geometry = pin.buildGeomFromUrdf(model, self.robot.urdf, pin.GeometryType.COLLISION)
-        self.geometry_data = pin.GeometryData(self.geometry)
-        names = _collision_names(self.robot.urdf)
-        self.parts = []
-        for i, obj in enumerate(self.geometry.geometryObjects):
-            shape = obj.geometry
-            if isinstance(shape, coal.Box):
-                scaled = coal.Box(*(2.0 * MM * np.asarray(shape.halfSide)))
-            elif isinstance(shape, coal.Cylinder):
-                scaled = coal.Cylinder(MM * shape.radius, 2.0 * MM * shape.halfLength)
-            elif isinstance(shape, coal.Sphere):
-                scaled = coal.Sphere(MM * shape.radius)
-            else:
-                raise ValueError(f"{self.robot.urdf}: collision geometry {obj.name} is not a "
-                                 "box, a cylinder or a sphere")
-            self.parts.append((names[i] if i < len(names) else obj.name, scaled,
-                               obj.parentJoint))
         yaw = math.radians(base[1])
         c, s = math.cos(yaw), math.sin(yaw)
         self.turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -340,6 +332,36 @@ class RobotBody(_Body):
                 joint = self.joint_index[name]
                 total += change * max(self._reach(a, joint), self._reach(b, joint))
         return total
+
+
+_MODELS = {}  # (URDF path, its mtime) -> collision_model's answer: coal objects made once
+
+
+def collision_model(urdf=None):
+    """(WaferRobot, Pinocchio GeometryModel and GeometryData of its <collision> elements,
+    [(name, coal shape in mm, parent joint)]) of a URDF (None: the bundled robot), made once per
+    file version and kept: a scan's clearance check then costs its distances only."""
+    path = urdf or bundled_urdf()
+    key = (str(path), os.path.getmtime(path))
+    if key not in _MODELS:
+        robot = WaferRobot(path)
+        geometry = pin.buildGeomFromUrdf(robot.model, robot.urdf, pin.GeometryType.COLLISION)
+        names = _collision_names(robot.urdf)
+        parts = []
+        for i, obj in enumerate(geometry.geometryObjects):
+            shape = obj.geometry
+            if isinstance(shape, coal.Box):
+                scaled = coal.Box(*(2.0 * MM * np.asarray(shape.halfSide)))
+            elif isinstance(shape, coal.Cylinder):
+                scaled = coal.Cylinder(MM * shape.radius, 2.0 * MM * shape.halfLength)
+            elif isinstance(shape, coal.Sphere):
+                scaled = coal.Sphere(MM * shape.radius)
+            else:
+                raise ValueError(f"{robot.urdf}: collision geometry {obj.name} is not a "
+                                 "box, a cylinder or a sphere")
+            parts.append((names[i] if i < len(names) else obj.name, scaled, obj.parentJoint))
+        _MODELS[key] = (robot, geometry, pin.GeometryData(geometry), parts)
+    return _MODELS[key]
 
 
 def _collision_names(urdf):
