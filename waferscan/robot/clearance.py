@@ -19,8 +19,9 @@ answers its questions (``nearest``, ``path``, ``swept``), so ``waferscan/core`` 
   contact's distance is the signed distance at one position.
 - The jab and the sweep turn links: ``path`` bounds how far any point moves (the sweep: the
   wrist's turn times the fork's reach, exact; the jab: each arm joint's change times the reach
-  from its axis, joint values taken to move monotonically between the search's samples), and
-  the core's Lipschitz refinement does the rest.
+  from its axis, taken at the jab's ends plus twice its length, joint values taken to move
+  monotonically between the search's samples), and the core's Lipschitz refinement does the
+  rest.
 """
 
 from __future__ import annotations
@@ -86,8 +87,18 @@ def _bowed_hull(wafer):
     return hull, bound
 
 
+_RADII = {}  # id(shape) -> _bound_radius: the robot's shapes are kept (collision_model)
+
+
 def _bound_radius(geometry):
     """Radius of a sphere about the shape's origin that holds it."""
+    key = id(geometry)
+    if key not in _RADII or _RADII[key][0] is not geometry:
+        _RADII[key] = (geometry, _shape_radius(geometry))
+    return _RADII[key][1]
+
+
+def _shape_radius(geometry):
     if isinstance(geometry, coal.Box):
         return float(np.linalg.norm(geometry.halfSide))
     if isinstance(geometry, coal.Cylinder):
@@ -173,23 +184,29 @@ class _Body:
                              self.result)
 
     def _nearest(self, parts):
-        """(distance, part, obstacle, slot, witness on the part) of the closest pair."""
+        """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
+        pairs in the order of their bounding spheres' distance, until that is no less than the
+        least distance found."""
         best = (math.inf, "", "", None, None)
-        if not self.obstacles.items:
+        if not self.obstacles.items or not parts:
             return best
-        for name, geometry, rotation, translation, _ in parts:
-            lower = (np.linalg.norm(self.obstacles.centres - translation, axis=1)
-                     - self.obstacles.radii - _bound_radius(geometry))
-            transform = None
-            for index in np.argsort(lower):
-                if lower[index] >= best[0]:
-                    break
-                if transform is None:
-                    transform = coal.Transform3s(rotation, translation)
-                d = self._distance(geometry, transform, index)
-                if d < best[0]:
-                    obstacle, slot = self.obstacles.items[index][:2]
-                    best = (d, name, obstacle, slot, np.array(self.result.getNearestPoint1()))
+        centres = np.array([part[3] for part in parts])
+        radii = np.array([_bound_radius(part[1]) for part in parts])
+        gaps = (np.linalg.norm(centres[:, None, :] - self.obstacles.centres[None, :, :], axis=2)
+                - radii[:, None] - self.obstacles.radii[None, :])
+        count = gaps.shape[1]
+        transforms = {}
+        for flat in np.argsort(gaps, axis=None):
+            i, index = divmod(int(flat), count)
+            if gaps[i, index] >= best[0]:
+                break
+            name, geometry, rotation, translation, _ = parts[i]
+            if i not in transforms:
+                transforms[i] = coal.Transform3s(rotation, translation)
+            d = self._distance(geometry, transforms[i], index)
+            if d < best[0]:
+                obstacle, slot = self.obstacles.items[index][:2]
+                best = (d, name, obstacle, slot, np.array(self.result.getNearestPoint1()))
         return best
 
     def nearest(self, motion, s):
@@ -265,6 +282,8 @@ class RobotBody(_Body):
         self.joint_index = {name: i + 1 for i, name in enumerate(self.robot.joint_names)}
         self.wrist = "wrist"
         self._advanced = {}
+        self._joints_at = {}  # (motion, s) -> joint values: nearest and path ask for the same
+        self._reach_for = (None, None)
 
     def _downstream(self, joint, ancestor):
         parents = self.robot.model.parents
@@ -287,7 +306,7 @@ class RobotBody(_Body):
         joints[lift] = joints.get(lift, 0.0) + (z - self.z0) / self.axis[2]
         return joints
 
-    def motion_joints(self, motion, s):
+    def _motion_joints(self, motion, s):
         if motion.kind in (core.STROKE, core.STEPS):
             return self.joints_at(s, motion.advance)
         if motion.kind == core.JAB:
@@ -321,17 +340,38 @@ class RobotBody(_Body):
                 reach = max(reach, math.hypot(*(t - axis_at)[:2]) + _bound_radius(shape))
         return reach
 
+    def _reaches(self, motion):
+        """Per turning joint, a bound on the reach from its axis over the whole motion: the
+        reach at the motion's ends, plus (a jab) twice its length, as far as any point of the
+        fork, moved straight, can get further from an axis. Kept for the motion."""
+        if self._reach_for[0] != motion:
+            start = self.motion_joints(motion, motion.start)
+            end = self.motion_joints(motion, motion.end)
+            margin = 2.0 * abs(motion.end - motion.start) if motion.kind == core.JAB else 0.0
+            self._reach_for = (motion, {
+                name: max(self._reach(start, self.joint_index[name]),
+                          self._reach(end, self.joint_index[name])) + margin
+                for name in ("shoulder", "elbow", "wrist")})
+        return self._reach_for[1]
+
+    def motion_joints(self, motion, s):
+        key = (motion, s)
+        if key not in self._joints_at:
+            if len(self._joints_at) > 4096:
+                self._joints_at.clear()
+            self._joints_at[key] = self._motion_joints(motion, s)
+        return self._joints_at[key]
+
     def path(self, motion, s0, s1):
+        """How far any point moves between s0 and s1: the lift's travel; or each turning
+        joint's change (rad) times its reach (``_reaches``), the joints taken to move
+        monotonically between the two."""
         if motion.kind in (core.STROKE, core.STEPS):
             return abs(s1 - s0) / abs(self.axis[2])
         a, b = self.motion_joints(motion, s0), self.motion_joints(motion, s1)
-        total = 0.0
-        for name in ("shoulder", "elbow", "wrist"):
-            change = math.radians(abs(b[name] - a[name]))
-            if change:
-                joint = self.joint_index[name]
-                total += change * max(self._reach(a, joint), self._reach(b, joint))
-        return total
+        reaches = self._reaches(motion)
+        return sum(math.radians(abs(b[name] - a[name])) * reaches[name]
+                   for name in ("shoulder", "elbow", "wrist"))
 
 
 _MODELS = {}  # (URDF path, its mtime) -> collision_model's answer: coal objects made once
