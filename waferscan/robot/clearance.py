@@ -87,20 +87,11 @@ def _bowed_hull(wafer):
     return hull, bound
 
 
-_RADII = {}  # id(shape) -> _bound_radius: the robot's shapes are kept (collision_model)
-
-
 def _bound_radius(geometry):
     """Radius of a sphere about the shape's origin that holds it."""
-    key = id(geometry)
-    if key not in _RADII or _RADII[key][0] is not geometry:
-        _RADII[key] = (geometry, _shape_radius(geometry))
-    return _RADII[key][1]
-
-
-def _shape_radius(geometry):
     if isinstance(geometry, coal.Box):
-        return float(np.linalg.norm(geometry.halfSide))
+        x, y, z = (float(v) for v in geometry.halfSide)
+        return math.sqrt(x * x + y * y + z * z)
     if isinstance(geometry, coal.Cylinder):
         return math.hypot(geometry.radius, geometry.halfLength)
     if isinstance(geometry, coal.Capsule):
