@@ -166,3 +166,18 @@ def test_a_scan_without_motions_checked_scanner_report_is_empty():
     report = clearance_for(replace(PAPER, robot=None, wafers=()))
     assert report.least.distance == math.inf and not report.contacts
     assert report.carrier == core.CARRIER_NOT_CHECKED
+
+
+def test_the_mcs_link_answers_a_contact_with_status_error_in_file_and_log(tmp_path):
+    from waferscan.core.files.mcs_link import McsLink
+
+    strict = replace(PAPER, mapping=replace(PAPER.mapping, clearance_min=1.0))
+    result = replace(scan_layout(strict), clearance=clearance_for(strict))
+    logged = []
+    link = McsLink(tmp_path, lambda command, should_stop: result, log=logged.append)
+    (tmp_path / "commands.txt").write_text("1 SCF\n")
+    (answer,) = link.poll()
+    assert answer.status == "error" and answer.message.startswith("clearance: 1 motion closer")
+    assert any(line.startswith("seq 1 SCF: error (clearance: ") for line in logged)
+    text = (tmp_path / "results.txt").read_text()
+    assert "\nstatus = error\n" in text and "\ncollision = 0.650 mm between tine_" in text
