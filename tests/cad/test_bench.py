@@ -79,9 +79,12 @@ def test_the_paper_round_checks_every_engine():
     rows = []
     ratios = bench.bench_paper(paper_scenario(), 1, rows.append)
     assert {r["engine"] for r in rows} == {"analytic", "vector", "loop", "analytic scan_layout",
-                                           "loop scan_layout", "document", "brep"}
+                                           "loop scan_layout", "document", "brep",
+                                           "analytic document",
+                                           "analytic document, no clearance"}
     assert all(r["steps"] == 5401 and not r["extrapolated"] for r in rows)
     assert ratios["loop/analytic"] > 1
+    assert ratios["clearance"] > 1  # SPEC §15: the check costs something; the bench says how much
 
 
 def test_processes_run_this_checkout(tmp_path):

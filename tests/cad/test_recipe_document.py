@@ -67,8 +67,9 @@ def test_a_document_without_a_recipe_judges_by_spec_4():
                      "ThicknessMaxSet", "DoubleThresholdSet", "PositionBelowSet",
                      "PositionAboveSet"):
             settings.removeProperty(prop)  # as a document made before the recipe
+        # paper.toml's clearance_min (SPEC §15) is no recipe key: its property stays.
         assert read_layout(plain).mapping == MappingTolerances(
-            position_tolerance=0.5, protrusion_limit=1.0)
+            position_tolerance=0.5, protrusion_limit=1.0, clearance_min=0.5)
     finally:
         App.closeDocument(plain.Name)
 

@@ -139,12 +139,16 @@ def test_cli_slow_scan_of_the_paper_with_jab_and_sweep_reports_front_and_sweep(t
     assert data["slots"][2]["front"] is None and data["slots"][2]["sweep"] is None
     assert "cannot tell a protruding wafer" in done.stderr
     assert data["durations"]["slow"] > data["durations"]["fast"] > 0
+    # SPEC §15 (changed deliberately with the clearance check): a ±40° sweep at the paper's
+    # pockets turns the tines into the wafers, so the MCS is answered status = error, with one
+    # collision line per motion that comes too close, and no table (the robot must not run it).
     text = out.read_text()
-    assert "\njab = 5.0\nsweep = 40.0\n" in text
-    head = [line for line in text.splitlines() if line.startswith("slot\t")][0]
-    assert head.split("\t")[-3:] == ["front", "sweep_first", "sweep_last"]
-    first = [line for line in text.splitlines() if line.startswith("1\t")][0].split("\t")
-    assert first[-3] == "0.000" and float(first[-2]) == pytest.approx(-float(first[-1]))
+    assert "\nstatus = error\n" in text and "\nclearance_min = 0.5\n" in text
+    collisions = [line for line in text.splitlines() if line.startswith("collision = ")]
+    assert any("slot 1 sweep at wrist angle" in line for line in collisions)
+    assert all("tine_" in line for line in collisions)
+    assert "slot\t" not in text
+    assert data["clearance"]["contacts"] == len(collisions)
 
 
 def test_cli_example_prints_pockets_and_durations():

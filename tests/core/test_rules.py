@@ -75,15 +75,18 @@ def test_a_scenario_without_a_mapping_table_gets_the_default_mapping_given():
     from waferscan.core.files.scenario import parse_scenario
 
     paper = paper_scenario().read_text(encoding="utf-8")
-    mapping_table = "[mapping]\nposition_tolerance = 0.5\nprotrusion_limit = 1.0\n"
-    assert mapping_table in paper
+    # The whole table, to the blank line before [[carrier]] (SPEC §15's clearance_min in it).
+    start = paper.index("[mapping]\n")
+    mapping_table = paper[start:paper.index("\n\n", start) + 1]
+    assert mapping_table.startswith("[mapping]\nposition_tolerance = 0.5\nprotrusion_limit = 1.0\n")
+    assert mapping_table.endswith("clearance_min = 0.5\n")
     text = paper.replace(mapping_table, "")
     given = MappingTolerances(thickness_tolerance=0.2, position_tolerance=0.9,
                               protrusion_limit=7.0)
     assert parse_scenario(text, default_mapping=given).mapping == given
     assert parse_scenario(text).mapping == MappingTolerances()
     assert parse_scenario(paper, default_mapping=given).mapping == MappingTolerances(
-        position_tolerance=0.5, protrusion_limit=1.0)
+        position_tolerance=0.5, protrusion_limit=1.0, clearance_min=0.5)
 
 
 @pytest.mark.parametrize("diameter, thickness", [

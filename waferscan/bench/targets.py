@@ -37,6 +37,11 @@ def contract(report):
         checks.append((ratio >= 1000, f"analytic vs loop on the paper: {ratio:,.0f}x (>= 1,000x, "
                                       f"median of interleaved rounds), identical results; "
                                       f"scan_layout end to end {end_to_end:,.0f}x"))
+    if "clearance" in ratios:  # SPEC §15, issue 29
+        checks.append((ratios["clearance"] <= 2.0,
+                       f"the robot's clearance check on the paper's fast scan through the "
+                       f"document: {ratios['clearance']:.2f}x the scan without it (<= 2x, "
+                       f"median of interleaved rounds)"))
     fab = _find(rows, "fab", "analytic scan_layout")
     brep = _find_row(rows, "fab", "brep")
     if fab is not None and brep is not None:

@@ -144,9 +144,16 @@ def bench_paper(scenario_path, rounds, add):
             "loop scan_layout": lambda: scan_layout(paper, "loop"),
             "document": lambda: scan_document(doc, "document"),
             "brep": lambda: scan_document(doc, "brep"),
+            # SPEC §15: the same fast scan through the document with and without the robot's
+            # clearance check (issue 29: it may add at most 2x).
+            "analytic document": lambda: scan_document(doc, "analytic"),
+            "analytic document, no clearance": lambda: scan_document(doc, "analytic",
+                                                                     clearance=False),
         }
         times, results = interleaved(tasks, rounds,
-                                     batch={"analytic": 50, "analytic scan_layout": 50})
+                                     batch={"analytic": 50, "analytic scan_layout": 50,
+                                            "analytic document": 20,
+                                            "analytic document, no clearance": 20})
         expected = _runs(scan_document(doc, "analytic"))
     finally:
         App.closeDocument(doc.Name)
@@ -157,6 +164,8 @@ def bench_paper(scenario_path, rounds, add):
     for name in tasks:
         add(row("paper", name, paper, times[name]))
     return {"loop/analytic": median_ratio(times["loop"], times["analytic"]),
+            "clearance": median_ratio(times["analytic document"],
+                                      times["analytic document, no clearance"]),
             "loop/analytic scan_layout": median_ratio(times["loop scan_layout"],
                                                       times["analytic scan_layout"])}
 

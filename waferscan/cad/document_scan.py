@@ -8,6 +8,7 @@ lift joint), then read the scanner's and every wafer's global placement back and
 
 from __future__ import annotations
 
+from ..core.errors import InputError
 from ..core.files.mcs import apply_parameters
 from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan.engines import CAD_ENGINES
@@ -29,11 +30,12 @@ def document_stepper(scene, mover):
 
 
 def scan_document(doc, engine="analytic", progress=None, parameters=None, check=None,
-                  read=None):
+                  read=None, clearance=True):
     """Read the document and scan it. ``parameters`` (a core ``mcs.Parameters``) override the
     document's own scan settings; ``check(layout)`` may refuse the layout before the scan;
     ``read`` is (scene, layout) already read from this document, unchanged since (the MCS
-    link's cache). Returns the core ``ScanResult``."""
+    link's cache); ``clearance``: check SPEC §15's clearance of the scan's motions
+    (``with_clearance``). Returns the core ``ScanResult``."""
     if read is not None:
         scene, layout = read
     else:
@@ -56,4 +58,41 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
         else:
             from .brep import brep_stepper  # Part's B-rep tools load only for this engine
             stepper = brep_stepper(scene, mover)
-    return scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)
+    result = scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)
+    return with_clearance(scene, result) if clearance else result
+
+
+def with_clearance(scene, result):
+    """The result with SPEC §15's clearance check of its motions: by the document's robot
+    (its URDF's collision geometry, in its taught start pose) or, without one, the scanner's
+    heads; each contact a warning. Unchanged when coal (which ships with pin) is missing."""
+    from dataclasses import replace
+
+    from ..addon import pinocchio_available
+
+    if not pinocchio_available():
+        return result
+    from ..core.mapping import UNSCANNED
+    from ..robot.clearance import RobotBody, ScannerBody, clearance_for
+
+    layout = result.layout
+    if scene.robots:
+        from . import roles
+        from .robot import _joint_dict, _urdf, base_of
+
+        instance = scene.robots[0]  # a scan moves one robot (stepping.mover_for says so)
+        holder = roles.role_holder(instance.obj)
+        try:
+            body = RobotBody(layout, urdf=_urdf(holder), base=base_of(instance.placement()),
+                             start=_joint_dict(holder))
+        except (ValueError, KeyError, RuntimeError, OSError) as exc:
+            from .robot import load_robot
+
+            load_robot(_urdf(holder), holder.Label)  # names a URDF it cannot read, as a scan does
+            raise InputError(holder.Label, None, f"cannot check the robot's clearance: "
+                             f"{str(exc).strip()[:200]}") from None
+    else:
+        body = ScannerBody(layout)
+    pockets = [s.slot for s in result.slot_map.slots if s.state != UNSCANNED]
+    report = clearance_for(layout, body, pockets)
+    return replace(result, clearance=report, warnings=result.warnings + report.warnings())

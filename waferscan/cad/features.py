@@ -304,6 +304,8 @@ SETTINGS_PROPERTIES = (
      property_named(SETTINGS, "SensorResponseMs").tip),
     ("PositionTolerance", "App::PropertyLength", "position_tolerance", "Slot position tolerance"),
     ("ProtrusionLimit", "App::PropertyLength", "protrusion_limit", "Protrusion limit"),
+    ("ClearanceMin", "App::PropertyLength", "clearance_min",
+     "Least distance the robot may come to a wafer along any motion of the scan (SPEC 15)"),
 )
 
 

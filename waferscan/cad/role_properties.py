@@ -67,6 +67,9 @@ SETTINGS = (
                  "Sensor response time in ms (0: an ideal sensor, no delay)"),
     RoleProperty("PositionTolerance", "App::PropertyLength", "mm", "Slot position tolerance"),
     RoleProperty("ProtrusionLimit", "App::PropertyLength", "mm", "Protrusion limit"),
+    RoleProperty("ClearanceMin", "App::PropertyLength", "mm",
+                 "Least distance the robot may come to a wafer along any motion of the scan "
+                 "(SPEC 15)"),
     RoleProperty("Mode", "App::PropertyEnumeration", "",
                  "fast: one stroke; slow: pocket by pocket"),
     RoleProperty("Direction", "App::PropertyEnumeration", "", "Direction of a fast scan"),

@@ -168,6 +168,9 @@ class MappingTolerances:
     position_above: float | None = None
     rules: str = "waferscan"
     thickness_correction: float = 1.0
+    # SPEC §15: a motion of the scan closer than this (mm) to a wafer is a contact
+    # (core/scan/clearance.py).
+    clearance_min: float = 1.0
 
     def thickness_tolerance_for(self, thickness):
         if self.thickness_tolerance is None:

@@ -122,6 +122,7 @@ MAPPING_KEYS = {
     "position_above": non_negative,
     "rules": choice(RULE_SETS),
     "thickness_correction": positive,
+    "clearance_min": non_negative,  # SPEC §15, mm (core/scan/clearance.py)
 }
 
 

@@ -310,12 +310,23 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
     these do not list them already."""
     if timestamp is None:
         timestamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    clearance = None if result is None else result.clearance
+    if result is not None and not error:
+        error = refusal(result)  # SPEC §15: the robot must not run a scan with a contact
     header = [("seq", "" if seq is None else str(seq)), ("command", command),
               ("status", "error" if error else "ok"),
               ("message", " ".join(str(error or message).split())),
               ("code", result.code if result and not error else ""),
               ("e87", result.e87 if result and not error else ""),
               ("timestamp", timestamp)]
+    if clearance is not None and (clearance.body == "robot" or clearance.contacts):
+        # SPEC §15: with a robot always; with the scanner's heads standing in, at a contact.
+        # clearance_min is listed here rather than among the parameters used, so that a scan
+        # without a clearance check lists what it always did.
+        header.append(("clearance_min", _text(clearance.clearance_min)))
+        least = clearance.least
+        header.append(("clearance", "" if least is None else f"{least.distance:.3f}"))
+        header += [("collision", line) for line in clearance.collision_lines()]
     if result is not None and not error:
         # One line each: why part of the result cannot be known (SPEC §3).
         header += [("warning", " ".join(w.split())) for w in result.warnings]
@@ -347,6 +358,18 @@ def format_results(seq, command, result=None, error=None, timestamp=None, messag
                 cells += _pocket_cells(pockets.get(slot))
             lines.append("\t".join(cells))
     return "\n".join(lines) + "\n"
+
+
+def refusal(result):
+    """Why the robot must not run the scan (SPEC §15: a motion closer than clearance_min to a
+    wafer), as the MCS's answer says it; None when it may."""
+    clearance = result.clearance
+    if clearance is None or not clearance.contacts:
+        return None
+    count = len(clearance.contacts)
+    return (f"clearance: {count} motion{'s' if count > 1 else ''} closer than clearance_min "
+            f"{clearance.clearance_min:g} mm to a wafer (the least "
+            f"{clearance.least.distance:.3f} mm): the robot must not run this scan")
 
 
 def _pocket_cells(probe):

@@ -57,7 +57,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..scan.calibration import CalibrationError
-from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, format_results
+from .mcs import COMMAND_NAMES, COMMANDS, RESULTS, Command, format_results, refusal
 from .text_files import atomic_write_text
 
 HISTORY = "history"
@@ -714,6 +714,8 @@ class McsLink:
         return [self._answer(command.seq, command.name, result=result)]
 
     def _answer(self, seq, name, result=None, error=None, message="", recipe=None):
+        if result is not None and not error:
+            error = refusal(result)  # SPEC §15: a contact; the answer and the log agree
         text = format_results(seq, name, result=result, error=error, message=message,
                               recipe=recipe)
         answer = Answer(seq, name, "error" if error else "ok", error or message,

@@ -41,6 +41,8 @@ def result_dict(result):
         slot["sweep_strike"] = ([list(span) for span in probe.strike]
                                 if probe is not None and probe.strike else None)
     data["durations"] = result.durations
+    if result.clearance is not None:  # SPEC §15
+        data["clearance"] = result.clearance.as_dict()
     return data
 
 

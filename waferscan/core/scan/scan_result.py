@@ -82,6 +82,8 @@ class ScanResult:
     # motion has continuous edges, so it scans with z_step 0 whatever z_step asked (SPEC §10).
     # None: the scan used what was asked.
     asked_scan: object = None
+    # SPEC §15: the ClearanceReport of the scan's motions (core/scan/clearance.py), when checked.
+    clearance: object = None
 
     @property
     def durations(self):

@@ -1,0 +1,232 @@
+"""Clearance along every motion of a scan (SPEC §15): the motions, the least distance along each,
+and what the results say of them. numpy-free and geometry-free: the distances come from a
+*body* (``waferscan/robot/clearance.py`` measures them with coal, from the robot's collision
+geometry or, without a robot, the scanner's heads), so the GUI, ``crosscheck`` and sweeps can ask
+the same questions of another body.
+
+A body answers, for a ``Motion`` and a parameter s along it (a scan position in mm, an advance in
+mm or a wrist angle in degrees):
+
+- ``nearest(motion, s)`` -> (distance mm, part, obstacle, slot): the least distance between the
+  moving geometry at s and every obstacle (negative: they overlap by that much);
+- ``path(motion, s0, s1)`` -> mm: a bound on how far any point of the moving geometry travels
+  between s0 and s1;
+- ``swept(motion)`` -> a ``Closest`` or None: the exact least distance over the whole motion when
+  the body can give it in one piece (a translation of boxes, cylinders and spheres along their
+  own axes sweeps them into longer ones), else None.
+
+**Continuity.** Where ``swept`` gives no answer, ``least_along`` samples the motion and refines it
+with a Lipschitz bound: between samples a and b, no point moves further than ``path(a, b)``, so
+the distance there is at least ``(d(a) + d(b) - path(a, b)) / 2``. Intervals are split (lowest
+bound first) until every bound is at least the least sampled distance minus ``TOLERANCE`` and,
+when no sample is a contact, at least ``clearance_min``: a contact closer than ``clearance_min``
+cannot be missed, and the least distance reported d is within max(``TOLERANCE``, ``RELATIVE``
+|d - clearance_min|) of the true one (it is the distance at the reported position exactly): a
+motion that stays far from everything needs no micrometres, one near the limit gets them. A
+contact's (d < clearance_min) within ``CONTACT_RELATIVE`` |d - clearance_min|.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+DEFAULT_CLEARANCE_MIN = 1.0  # mm (SPEC §15)
+TOLERANCE = 1e-3  # mm: how far the least distance reported may lie above the true least …
+RELATIVE = 0.05  # … or this fraction of its margin to clearance_min, whichever is more
+CONTACT_RELATIVE = 0.5  # the same fraction for a contact: where and what matter, not the depth
+SAMPLES_PER_MM = 1.0  # first samples of a translation (per mm) and of a turn (per degree)
+MAX_EVALUATIONS = 200_000  # per motion; beyond, the least lower bound is reported instead
+CARRIER_NOT_CHECKED = "not checked: the layout has no carrier solids"
+
+STROKE, STEPS, JAB, SWEEP = "stroke", "steps", "jab", "sweep"
+UNITS = {STROKE: "z", STEPS: "z", JAB: "advance", SWEEP: "angle"}
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One motion of a scan: ``kind`` (stroke, steps, jab, sweep), ``phase`` in words, the
+    pocket's ``slot`` (None for a stroke), the parameter from ``start`` to ``end`` (scan position
+    mm for a stroke and steps, advance mm for a jab, wrist angle deg for a sweep), and where it is
+    made: the scan position ``z`` of a jab or a sweep and the fork's ``advance`` during steps and
+    a sweep."""
+
+    kind: str
+    phase: str
+    slot: int | None
+    start: float
+    end: float
+    z: float | None = None
+    advance: float = 0.0
+
+    @property
+    def unit(self):
+        return UNITS[self.kind]
+
+
+@dataclass(frozen=True)
+class Closest:
+    """The least distance along one motion: ``distance`` mm (negative: overlapping by that
+    much) at parameter ``position``, between the robot's ``part`` and the ``obstacle`` (a wafer's
+    name), in ``slot`` (the obstacle's slot when known, else the motion's pocket)."""
+
+    motion: Motion
+    distance: float
+    position: float
+    part: str
+    obstacle: str
+    slot: int | None
+    exact: bool = True  # False: the evaluation budget ran out; distance is a lower bound
+
+
+@dataclass(frozen=True)
+class ClearanceReport:
+    """Every motion's least distance, against ``clearance_min``. ``body``: what moved ("robot"
+    or "scanner"); ``carrier``: how the carrier was checked."""
+
+    clearance_min: float
+    closest: tuple
+    body: str
+    carrier: str = CARRIER_NOT_CHECKED
+
+    @property
+    def least(self):
+        """The Closest with the least distance over all motions, or None without motions."""
+        return min(self.closest, key=lambda c: c.distance, default=None)
+
+    @property
+    def contacts(self):
+        """The motions that come closer than clearance_min, in scan order."""
+        return tuple(c for c in self.closest if c.distance < self.clearance_min)
+
+    def warnings(self):
+        """One sentence per contact (SPEC §3's channels: JSON, results.txt, stderr, GUI)."""
+        return tuple(f"contact: {describe(c)}, under clearance_min {self.clearance_min:g} mm: "
+                     "the robot must not run this scan" for c in self.contacts)
+
+    def collision_lines(self):
+        """results.txt's ``collision = …`` values, one per contact."""
+        return tuple(describe(c) for c in self.contacts)
+
+    def as_dict(self):
+        """JSON's ``clearance``."""
+        least = self.least
+        return {"clearance_min": self.clearance_min, "body": self.body,
+                "carrier": self.carrier,
+                "least": None if least is None else least.distance,
+                "contacts": len(self.contacts),
+                "motions": [closest_dict(c) for c in self.closest]}
+
+
+def closest_dict(c):
+    m = c.motion
+    return {"motion": m.kind, "phase": m.phase, "slot": c.slot, "pocket": m.slot,
+            "distance": c.distance, "exact": c.exact, "unit": m.unit, "position": c.position,
+            "z": m.z, "part": c.part, "obstacle": c.obstacle}
+
+
+_WHERE = {"z": "at scan position {:.3f} mm", "advance": "advanced {:.3f} mm",
+          "angle": "at wrist angle {:+.3f} deg"}
+
+
+def describe(c):
+    """'0.650 mm between tine_right and wafer_3 (slot 4), fast stroke up at scan position …'."""
+    slot = "" if c.slot is None else f" (slot {c.slot})"
+    where = _WHERE[c.motion.unit].format(c.position)
+    if c.motion.z is not None and c.motion.unit != "z":
+        where += f" at scan position {c.motion.z:.3f} mm"
+    bound = "" if c.exact else " at least"
+    return (f"{bound.strip() + ' ' if bound else ''}{c.distance:.3f} mm between {c.part} and "
+            f"{c.obstacle}{slot}, {c.motion.phase} {where}")
+
+
+# --- the motions of a scan ---------------------------------------------------------------------
+
+def scan_motions(layout, pockets=None):
+    """The motions a scan of the layout makes, in order. A fast scan: its stroke(s). A slow scan:
+    at each pocket (``pockets``: the scanned slots; default every slot of the scanned carrier)
+    its jab (advance 0 .. jab at the pocket's height), its Z steps over the pocket's window
+    (the fork advanced by the jab) and its sweep (-sweep .. +sweep at the jab's depth)."""
+    scan = layout.scan
+    if scan.mode != "slow":
+        up = Motion(STROKE, "fast stroke up", None, scan.start_z, scan.final_z)
+        down = Motion(STROKE, "fast stroke down", None, scan.final_z, scan.start_z)
+        return {"up": [up], "down": [down], "updown": [up, down]}[scan.direction]
+    from .scan_result import slot_plan
+
+    carrier = layout.scanned_carrier
+    plan = slot_plan(carrier, layout.mapping)
+    slots = range(1, plan.slot_count + 1) if pockets is None else pockets
+    motions = []
+    for slot in slots:
+        seat = plan.seat_z(slot)
+        z = seat + 0.5 * plan.wafer_thickness
+        if scan.jab > 0.0:
+            motions.append(Motion(JAB, f"slot {slot} jab", slot, 0.0, scan.jab, z))
+        low = max(scan.start_z, seat - 0.5 * plan.pitch)
+        high = min(scan.final_z, seat + 0.5 * plan.pitch)
+        if high > low:
+            motions.append(Motion(STEPS, f"slot {slot} steps", slot, low, high, None, scan.jab))
+        if scan.sweep > 0.0:
+            motions.append(Motion(SWEEP, f"slot {slot} sweep", slot, -scan.sweep, scan.sweep, z,
+                                  scan.jab))
+    return motions
+
+
+# --- the least distance along a motion ---------------------------------------------------------
+
+def least_along(body, motion, clearance_min, tolerance=TOLERANCE, per_unit=SAMPLES_PER_MM,
+                budget=MAX_EVALUATIONS):
+    """The Closest of one motion, exact (``swept``) or by Lipschitz refinement (module doc)."""
+    swept = body.swept(motion)
+    if swept is not None:
+        return swept
+    a, b = motion.start, motion.end
+    count = max(1, int(math.ceil(abs(b - a) * per_unit)))
+    grid = [a + (b - a) * i / count for i in range(count + 1)]
+    values = [body.nearest(motion, s) for s in grid]
+    best_s, best = min(zip(grid, values), key=lambda sv: sv[1][0])
+    heap = []
+
+    def push(s0, v0, s1, v1):
+        bound = 0.5 * (v0[0] + v1[0] - body.path(motion, s0, s1))
+        heapq.heappush(heap, (bound, s0, s1, v0, v1))
+
+    for (s0, v0), (s1, v1) in zip(zip(grid, values), zip(grid[1:], values[1:])):
+        push(s0, v0, s1, v1)
+    evaluations = len(grid)
+    exact = True
+    while heap:
+        bound, s0, s1, v0, v1 = heap[0]
+        fraction = CONTACT_RELATIVE if best[0] < clearance_min else RELATIVE
+        slack = max(tolerance, fraction * abs(best[0] - clearance_min))
+        done = bound >= best[0] - slack and (bound >= clearance_min or best[0] < clearance_min)
+        if done or abs(s1 - s0) < 1e-12:
+            break
+        if evaluations >= budget:
+            exact = False
+            break
+        heapq.heappop(heap)
+        mid = 0.5 * (s0 + s1)
+        vm = body.nearest(motion, mid)
+        evaluations += 1
+        if vm[0] < best[0]:
+            best_s, best = mid, vm
+        push(s0, v0, mid, vm)
+        push(mid, vm, s1, v1)
+    distance, part, obstacle, slot = best
+    if not exact:
+        distance = min(distance, heap[0][0])
+    return Closest(motion, float(distance), float(best_s), part, obstacle,
+                   motion.slot if slot is None else slot, exact)
+
+
+def check_clearance(layout, body, pockets=None, clearance_min=None, body_name="robot",
+                    carrier=CARRIER_NOT_CHECKED):
+    """The ClearanceReport of a scan of ``layout`` made by ``body``: the least distance along
+    each of its motions (``scan_motions``). ``clearance_min`` defaults to the layout's."""
+    if clearance_min is None:
+        clearance_min = layout.mapping.clearance_min
+    closest = tuple(least_along(body, m, clearance_min) for m in scan_motions(layout, pockets))
+    return ClearanceReport(clearance_min, closest, body_name, carrier)

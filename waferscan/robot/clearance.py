@@ -1,0 +1,450 @@
+"""The distances of SPEC §15's clearance check, with coal (the collision library that ships with
+pin): the robot's collision geometry from its URDF (Pinocchio's COLLISION geometry model, placed
+by the joints) or, without a robot, the scanner's heads; the wafers as coal solids.
+
+Lengths here are millimetres: the URDF's shapes and placements are scaled once, when the body is
+made. The motions and the search along them are ``core/scan/clearance.py``'s; this module only
+answers its questions (``nearest``, ``path``, ``swept``), so ``waferscan/core`` stays numpy-only.
+
+- A flat wafer is a coal ``Cylinder``. A bowed wafer (core/geometry/bow.py) is the convex hull of
+  its rim circles and its two surfaces sampled on rings, each ring's polygon circumscribing its
+  circle and each surface point raised outwards by the sampling's sagitta, so the hull holds the
+  solid: a distance to it is never more than the true one (conservative, by at most ~0.05 mm for
+  a 300 mm wafer). The hull is that of a dome or a bowl: from its open side (above a
+  bowl, below a dome) it reaches up to the bow nearer than the solid.
+- A translation along the lift (a fast stroke, a pocket's Z steps) is answered exactly in one
+  piece (``swept``): a box, cylinder or sphere that moves along its own Z axis sweeps a longer
+  box, cylinder or a capsule, and the least distance to it is the least along the motion. When
+  the swept shapes overlap a wafer the core's Lipschitz search answers instead, so that a
+  contact's distance is the signed distance at one position.
+- The jab and the sweep turn links: ``path`` bounds how far any point moves (the sweep: the
+  wrist's turn times the fork's reach, exact; the jab: each arm joint's change times the reach
+  from its axis, taken at the jab's ends plus twice its length, joint values taken to move
+  monotonically between the search's samples), and the core's Lipschitz refinement does the
+  rest.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import xml.etree.ElementTree as ElementTree
+
+import numpy as np
+
+from ..addon import require_pinocchio
+
+require_pinocchio()  # coal ships with pin: the same clear error when it is missing
+import coal  # noqa: E402
+import pinocchio as pin  # noqa: E402
+
+from ..core.scan import clearance as core  # noqa: E402
+from ..core.scan import slow_scan  # noqa: E402
+from .kinematics import MM, WaferRobot, bundled_urdf  # noqa: E402
+
+HEAD_RADIUS = 3.0  # mm: the scanner's emitter and receiver heads (cad/features.ScannerBeam)
+BOW_RINGS = 24  # rings of a bowed wafer's surfaces
+BOW_SIDES = 128  # points on each ring (coal's hull allows a vertex at most 255 neighbours)
+
+
+def _frame_z(axis):
+    """A rotation whose third column is the unit ``axis`` (scalar arithmetic: numpy's cross
+    costs more than the rest of a wafer's set-up)."""
+    ax, ay, az = (float(v) for v in axis)
+    n = math.sqrt(ax * ax + ay * ay + az * az)
+    ax, ay, az = ax / n, ay / n, az / n
+    if abs(ax) < 0.9:  # x = (1, 0, 0) x z
+        x = (0.0, -az, ay)
+    else:  # x = (0, 1, 0) x z
+        x = (az, 0.0, -ax)
+    m = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+    x = (x[0] / m, x[1] / m, x[2] / m)
+    y = (ay * x[2] - az * x[1], az * x[0] - ax * x[2], ax * x[1] - ay * x[0])
+    return np.array([[x[0], y[0], ax], [x[1], y[1], ay], [x[2], y[2], az]])
+
+
+def _bowed_hull(wafer):
+    """coal Convex holding a bowed wafer, in the wafer's frame (origin: the rim's bottom
+    centre, Z: its normal); and its bounding radius about that origin."""
+    radius, bow, t = wafer.radius, wafer.bow, wafer.thickness
+    k = bow / (radius * radius)
+    grow = 1.0 / math.cos(math.pi / BOW_SIDES)  # the polygon circumscribes each ring
+    dr = radius / BOW_RINGS
+    sagitta = abs(k) * dr * dr / 4.0  # a chord between rings lies this far inside the surface
+    angles = np.linspace(0.0, 2.0 * math.pi, BOW_SIDES, endpoint=False)
+    points = coal.StdVec_Vec3s()
+    for i in range(BOW_RINGS + 1):
+        r = dr * i
+        w = bow * (1.0 - r * r / (radius * radius))
+        for z in (w - sagitta, w + t + sagitta):
+            # The centre as a small ring (a single point would neighbour every point of the
+            # first ring); the sagitta covers the height it misses.
+            r_ring = 0.25 * dr if i == 0 else r
+            for x, y in zip(r_ring * grow * np.cos(angles), r_ring * grow * np.sin(angles)):
+                points.append(np.array([x, y, z]))
+    hull = coal.Convex.convexHull(points, False, "")
+    bound = math.hypot(radius * grow, abs(bow) + t + sagitta)
+    return hull, bound
+
+
+def _bound_radius(geometry):
+    """Radius of a sphere about the shape's origin that holds it."""
+    if isinstance(geometry, coal.Box):
+        x, y, z = (float(v) for v in geometry.halfSide)
+        return math.sqrt(x * x + y * y + z * z)
+    if isinstance(geometry, coal.Cylinder):
+        return math.hypot(geometry.radius, geometry.halfLength)
+    if isinstance(geometry, coal.Capsule):
+        return geometry.radius + geometry.halfLength
+    return geometry.radius  # Sphere
+
+
+def _half_length(geometry):
+    if isinstance(geometry, coal.Box):
+        return float(geometry.halfSide[2])
+    if isinstance(geometry, (coal.Cylinder, coal.Capsule)):
+        return geometry.halfLength
+    return 0.0
+
+
+def _swept_along_z(geometry, travel):
+    """The shape moved ``travel`` mm along its own Z: a longer box or cylinder, or a capsule."""
+    if isinstance(geometry, coal.Box):
+        sx, sy, sz = 2.0 * geometry.halfSide
+        return coal.Box(sx, sy, sz + travel)
+    if isinstance(geometry, coal.Cylinder):
+        return coal.Cylinder(geometry.radius, 2.0 * geometry.halfLength + travel)
+    if isinstance(geometry, coal.Capsule):
+        return coal.Capsule(geometry.radius, 2.0 * geometry.halfLength + travel)
+    return coal.Capsule(geometry.radius, travel)  # Sphere
+
+
+class Obstacles:
+    """The layout's wafers as coal solids: (name, slot, geometry, transform, centre, radius)."""
+
+    def __init__(self, layout):
+        carrier = layout.scanned_carrier
+        self.items = []
+        for wafer in layout.wafers:
+            rotation = _frame_z(wafer.normal)
+            if wafer.bow:
+                geometry, bound = _bowed_hull(wafer)
+                origin = np.asarray(wafer.center, dtype=float)
+                centre = origin + rotation[:, 2] * 0.5 * (wafer.bow + wafer.thickness)
+            else:
+                geometry = coal.Cylinder(wafer.radius, wafer.thickness)
+                origin = centre = np.asarray(wafer.mid_center, dtype=float)
+                bound = math.hypot(wafer.radius, 0.5 * wafer.thickness)
+            self.items.append((wafer.name, _slot_of(carrier, wafer), geometry,
+                               coal.Transform3s(rotation, origin), centre, bound))
+        self.centres = np.array([item[4] for item in self.items]).reshape(-1, 3)
+        self.radii = np.array([item[5] for item in self.items])
+
+
+def _slot_of(carrier, wafer):
+    """The wafer's slot: the one it was loaded into, else the seat nearest its lowest point when
+    it lies in the scanned carrier (None otherwise)."""
+    if wafer.slot is not None and wafer.carrier in (None, carrier.name):
+        return wafer.slot
+    cx, cy = carrier.center
+    if math.hypot(wafer.center[0] - cx, wafer.center[1] - cy) > carrier.wafer_diameter / 2.0:
+        return None
+    low = wafer.center[2] - wafer.radius * math.hypot(wafer.normal[0], wafer.normal[1])
+    slot = round((low - carrier.first_slot_z) / carrier.pitch) + 1
+    return slot if 1 <= slot <= carrier.slot_count else None
+
+
+class _Body:
+    """What robot and scanner share: the nearest pair at a pose, and the swept translation."""
+
+    lift_axis = (0.0, 0.0, 1.0)
+
+    def __init__(self, layout):
+        self.layout = layout
+        self.obstacles = Obstacles(layout)
+        self.request = coal.DistanceRequest()
+        self.result = coal.DistanceResult()
+        self.lift_axis = np.asarray(layout.lift_axis, dtype=float)
+
+    # parts_at(motion, s) -> [(name, geometry, rotation, translation mm, moves_with_lift)]
+
+    def _distance(self, geometry, transform, index):
+        _, _, other, other_transform, _, _ = self.obstacles.items[index]
+        self.result.clear()
+        return coal.distance(geometry, transform, other, other_transform, self.request,
+                             self.result)
+
+    def _nearest(self, parts):
+        """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
+        pairs in the order of their bounding spheres' distance, until that is no less than the
+        least distance found."""
+        best = (math.inf, "", "", None, None)
+        if not self.obstacles.items or not parts:
+            return best
+        centres = np.array([part[3] for part in parts])
+        radii = np.array([_bound_radius(part[1]) for part in parts])
+        gaps = (np.linalg.norm(centres[:, None, :] - self.obstacles.centres[None, :, :], axis=2)
+                - radii[:, None] - self.obstacles.radii[None, :])
+        count = gaps.shape[1]
+        transforms = {}
+        for flat in np.argsort(gaps, axis=None):
+            i, index = divmod(int(flat), count)
+            if gaps[i, index] >= best[0]:
+                break
+            name, geometry, rotation, translation, _ = parts[i]
+            if i not in transforms:
+                transforms[i] = coal.Transform3s(rotation, translation)
+            d = self._distance(geometry, transforms[i], index)
+            if d < best[0]:
+                obstacle, slot = self.obstacles.items[index][:2]
+                best = (d, name, obstacle, slot, np.array(self.result.getNearestPoint1()))
+        return best
+
+    def nearest(self, motion, s):
+        d, part, obstacle, slot, _ = self._nearest(self.parts_at(motion, s))
+        return d, part, obstacle, slot
+
+    def swept(self, motion):
+        """The exact Closest of a translation along the lift (stroke, steps), or None."""
+        if motion.kind not in (core.STROKE, core.STEPS):
+            return None
+        axis = self.lift_axis
+        travel = abs(motion.end - motion.start) / abs(axis[2])
+        sign = 1.0 if motion.end >= motion.start else -1.0
+        direction = sign * axis
+        start = self.parts_at(motion, motion.start)
+        swept, halves = [], {}
+        for name, geometry, rotation, translation, moves in start:
+            if not moves or travel == 0.0:
+                swept.append((name, geometry, rotation, translation, moves))
+                continue
+            if isinstance(geometry, coal.Sphere):
+                rotation = _frame_z(axis)
+            elif abs(abs(rotation[:, 2] @ axis) - 1.0) > 1e-12 or not isinstance(
+                    geometry, (coal.Box, coal.Cylinder, coal.Capsule)):
+                return None  # not along its own axis: the Lipschitz search instead
+            swept.append((name, _swept_along_z(geometry, travel), rotation,
+                          translation + 0.5 * travel * direction, moves))
+            halves[name] = (translation, _half_length(geometry))
+        d, part, obstacle, slot, witness = self._nearest(swept)
+        if d <= 0.0:
+            # Overlapping: a swept shape's depth is not the least depth at one position, so
+            # the Lipschitz search answers (its contact is a position's own signed distance).
+            return None
+        position = motion.start
+        if part in halves and witness is not None:
+            origin, half = halves[part]
+            w = float((witness - origin) @ direction)  # along the motion, from the start
+            low, high = max(0.0, w - half), min(travel, w + half)
+            tau = 0.5 * (low + high) if low <= high else min(max(w, 0.0), travel)
+            position = motion.start + sign * tau * abs(axis[2])
+        return core.Closest(motion, float(d), float(position), part, obstacle,
+                            motion.slot if slot is None else slot)
+
+
+class RobotBody(_Body):
+    """The robot's collision geometry (its URDF's <collision> boxes, cylinders and spheres) as
+    its joints move through a scan of the layout. ``urdf`` (None: the bundled robot), ``base``
+    ((x, y, z) mm, yaw deg)
+    and ``start`` (the taught start pose's joint values) default to the layout's [robot]."""
+
+    def __init__(self, layout, urdf=None, base=None, start=None):
+        super().__init__(layout)
+        spec = layout.robot
+        if urdf is None and spec is not None:
+            urdf = spec.urdf
+        self.robot, self.geometry, self.geometry_data, self.parts = collision_model(urdf)
+        if base is None:
+            base = (tuple(spec.base), spec.base_yaw) if spec is not None \
+                else ((0.0, 0.0, 0.0), 0.0)
+        self.base = base
+        self.start = dict(start) if start is not None else self.robot.teach_start_pose(
+            base, layout.beam.emitter, layout.beam.direction)
+        yaw = math.radians(base[1])
+        c, s = math.cos(yaw), math.sin(yaw)
+        self.turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        self.offset = np.asarray(base[0], dtype=float)
+        self.z0 = self.robot.beam(self.start, base)[0][2]
+        self.axis = self.robot.lift_axis(base)
+        self.lift_axis = np.asarray(self.axis, dtype=float)
+        lift_index = self.robot.joint_names.index(self.robot.lift_joint) + 1
+        # A part moves with the lift when the lift joint is among its joint's ancestors.
+        self.moves = [self._downstream(joint, lift_index) for _, _, joint in self.parts]
+        self.joint_index = {name: i + 1 for i, name in enumerate(self.robot.joint_names)}
+        self.wrist = "wrist"
+        self._advanced = {}
+        self._joints_at = {}  # (motion, s) -> joint values: nearest and path ask for the same
+        self._reach_for = (None, None)
+
+    def _downstream(self, joint, ancestor):
+        parents = self.robot.model.parents
+        while joint > 0:
+            if joint == ancestor:
+                return True
+            joint = parents[joint]
+        return False
+
+    def joints_at(self, z, advance=0.0):
+        """Joint values with the beam at scan position z, the fork advanced ``advance`` mm."""
+        if advance:
+            if advance not in self._advanced:
+                self._advanced[advance] = self.robot.straight_advance(self.start, self.base,
+                                                                       advance)
+            joints = dict(self._advanced[advance])
+        else:
+            joints = dict(self.start)
+        lift = self.robot.lift_joint
+        joints[lift] = joints.get(lift, 0.0) + (z - self.z0) / self.axis[2]
+        return joints
+
+    def _motion_joints(self, motion, s):
+        if motion.kind in (core.STROKE, core.STEPS):
+            return self.joints_at(s, motion.advance)
+        if motion.kind == core.JAB:
+            return self.robot.straight_advance(self.joints_at(motion.z), self.base, s)
+        joints = self.joints_at(motion.z, motion.advance)  # SWEEP
+        joints[self.wrist] = joints[self.wrist] + s
+        return joints
+
+    def placements(self, joints):
+        """[(R, t mm)] in the world of each collision part at the joint values."""
+        model, data = self.robot.model, self.robot.data
+        pin.forwardKinematics(model, data, self.robot._to_q(joints))
+        pin.updateGeometryPlacements(model, data, self.geometry, self.geometry_data)
+        return [(self.turn @ np.asarray(m.rotation),
+                 self.turn @ (np.asarray(m.translation) * MM) + self.offset)
+                for m in self.geometry_data.oMg]
+
+    def parts_at(self, motion, s):
+        return [(name, shape, rotation, translation, moves)
+                for (name, shape, _), (rotation, translation), moves
+                in zip(self.parts, self.placements(self.motion_joints(motion, s)), self.moves)]
+
+    def _reach(self, joints, joint):
+        """The farthest any part downstream of ``joint`` lies from its (vertical) axis, mm."""
+        placements = self.placements(joints)
+        axis_at = self.turn @ (np.asarray(self.robot.data.oMi[joint].translation) * MM) \
+            + self.offset
+        reach = 0.0
+        for (_, shape, parent), (_, t) in zip(self.parts, placements):
+            if self._downstream(parent, joint):
+                reach = max(reach, math.hypot(*(t - axis_at)[:2]) + _bound_radius(shape))
+        return reach
+
+    def _reaches(self, motion):
+        """Per turning joint, a bound on the reach from its axis over the whole motion: the
+        reach at the motion's ends, plus (a jab) twice its length, as far as any point of the
+        fork, moved straight, can get further from an axis. Kept for the motion."""
+        if self._reach_for[0] != motion:
+            start = self.motion_joints(motion, motion.start)
+            end = self.motion_joints(motion, motion.end)
+            margin = 2.0 * abs(motion.end - motion.start) if motion.kind == core.JAB else 0.0
+            self._reach_for = (motion, {
+                name: max(self._reach(start, self.joint_index[name]),
+                          self._reach(end, self.joint_index[name])) + margin
+                for name in ("shoulder", "elbow", "wrist")})
+        return self._reach_for[1]
+
+    def motion_joints(self, motion, s):
+        key = (motion, s)
+        if key not in self._joints_at:
+            if len(self._joints_at) > 4096:
+                self._joints_at.clear()
+            self._joints_at[key] = self._motion_joints(motion, s)
+        return self._joints_at[key]
+
+    def path(self, motion, s0, s1):
+        """How far any point moves between s0 and s1: the lift's travel; or each turning
+        joint's change (rad) times its reach (``_reaches``), the joints taken to move
+        monotonically between the two."""
+        if motion.kind in (core.STROKE, core.STEPS):
+            return abs(s1 - s0) / abs(self.axis[2])
+        a, b = self.motion_joints(motion, s0), self.motion_joints(motion, s1)
+        reaches = self._reaches(motion)
+        return sum(math.radians(abs(b[name] - a[name])) * reaches[name]
+                   for name in ("shoulder", "elbow", "wrist"))
+
+
+_MODELS = {}  # (URDF path, its mtime) -> collision_model's answer: coal objects made once
+
+
+def collision_model(urdf=None):
+    """(WaferRobot, Pinocchio GeometryModel and GeometryData of its <collision> elements,
+    [(name, coal shape in mm, parent joint)]) of a URDF (None: the bundled robot), made once per
+    file version and kept: a scan's clearance check then costs its distances only."""
+    path = urdf or bundled_urdf()
+    key = (str(path), os.path.getmtime(path))
+    if key not in _MODELS:
+        robot = WaferRobot(path)
+        geometry = pin.buildGeomFromUrdf(robot.model, robot.urdf, pin.GeometryType.COLLISION)
+        names = _collision_names(robot.urdf)
+        parts = []
+        for i, obj in enumerate(geometry.geometryObjects):
+            shape = obj.geometry
+            if isinstance(shape, coal.Box):
+                scaled = coal.Box(*(2.0 * MM * np.asarray(shape.halfSide)))
+            elif isinstance(shape, coal.Cylinder):
+                scaled = coal.Cylinder(MM * shape.radius, 2.0 * MM * shape.halfLength)
+            elif isinstance(shape, coal.Sphere):
+                scaled = coal.Sphere(MM * shape.radius)
+            else:
+                raise ValueError(f"{robot.urdf}: collision geometry {obj.name} is not a "
+                                 "box, a cylinder or a sphere")
+            parts.append((names[i] if i < len(names) else obj.name, scaled, obj.parentJoint))
+        _MODELS[key] = (robot, geometry, pin.GeometryData(geometry), parts)
+    return _MODELS[key]
+
+
+def _collision_names(urdf):
+    """The URDF's collision elements' names in Pinocchio's order (link by link), ``link_i``
+    where unnamed."""
+    names = []
+    for link in ElementTree.parse(urdf).getroot().iter("link"):
+        for i, element in enumerate(link.findall("collision")):
+            names.append(element.get("name") or f"{link.get('name')}_{i}")
+    return names
+
+
+class ScannerBody(_Body):
+    """Without a robot (SPEC §15), the scanner's solid stands in: its emitter and receiver heads,
+    spheres of HEAD_RADIUS (the beam itself is meant to cross the wafers)."""
+
+    def __init__(self, layout):
+        super().__init__(layout)
+        self.sphere = coal.Sphere(HEAD_RADIUS)
+
+    def ends(self, motion, s):
+        if motion.kind in (core.STROKE, core.STEPS):
+            emitter, beam = slow_scan.beam_at(self.layout, s, motion.advance)
+        elif motion.kind == core.JAB:
+            emitter, beam = slow_scan.beam_at(self.layout, motion.z, s)
+        else:
+            emitter, beam = slow_scan.beam_at(self.layout, motion.z, motion.advance, s)
+        return np.asarray(emitter, dtype=float), np.asarray(beam.receiver, dtype=float)
+
+    def parts_at(self, motion, s):
+        emitter, receiver = self.ends(motion, s)
+        return [("emitter head", self.sphere, np.eye(3), emitter, True),
+                ("receiver head", self.sphere, np.eye(3), receiver, True)]
+
+    def path(self, motion, s0, s1):
+        if motion.kind in (core.STROKE, core.STEPS):
+            return abs(s1 - s0) / abs(self.lift_axis[2])
+        if motion.kind == core.JAB:
+            return abs(s1 - s0)
+        wx, wy = slow_scan.wrist_axis(self.layout, motion.z, motion.advance)
+        reach = max(math.hypot(p[0] - wx, p[1] - wy) for p in self.ends(motion, 0.0))
+        return math.radians(abs(s1 - s0)) * reach
+
+
+def body_for(layout):
+    """The body that makes the layout's scan: its robot's, else the scanner's heads."""
+    return RobotBody(layout) if layout.robot is not None else ScannerBody(layout)
+
+
+def clearance_for(layout, body=None, pockets=None):
+    """SPEC §15's ClearanceReport of a scan of the layout (``core.check_clearance``), by its
+    robot when it has one, else by the scanner's heads."""
+    body = body or body_for(layout)
+    return core.check_clearance(layout, body, pockets,
+                                body_name="robot" if isinstance(body, RobotBody) else "scanner")
