@@ -14,7 +14,7 @@ from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan.engines import CAD_ENGINES
 from ..core.scan.layout_scan import scan_layout
 from .reader import DocumentScene, read_layout
-from .stepping import framed_wafers, mover_for, stepper_through_document
+from .stepping import framed_wafers, mover_for, per_scene, stepper_through_document
 
 
 def document_stepper(scene, mover):
@@ -77,22 +77,29 @@ def with_clearance(scene, result):
 
     layout = result.layout
     if scene.robots:
-        from . import roles
-        from .robot import _joint_dict, _urdf, base_of
-
-        instance = scene.robots[0]  # a scan moves one robot (stepping.mover_for says so)
-        holder = roles.role_holder(instance.obj)
+        urdf, base, start, label = per_scene(scene, "robot for clearance",
+                                             lambda: _robot_read(scene))
         try:
-            body = RobotBody(layout, urdf=_urdf(holder), base=base_of(instance.placement()),
-                             start=_joint_dict(holder))
+            body = RobotBody(layout, urdf=urdf, base=base, start=start)
         except (ValueError, KeyError, RuntimeError, OSError) as exc:
             from .robot import load_robot
 
-            load_robot(_urdf(holder), holder.Label)  # names a URDF it cannot read, as a scan does
-            raise InputError(holder.Label, None, f"cannot check the robot's clearance: "
+            load_robot(urdf, label)  # names a URDF it cannot read, as a scan does
+            raise InputError(label, None, f"cannot check the robot's clearance: "
                              f"{str(exc).strip()[:200]}") from None
     else:
         body = ScannerBody(layout)
     pockets = [s.slot for s in result.slot_map.slots if s.state != UNSCANNED]
     report = clearance_for(layout, body, pockets)
     return replace(result, clearance=report, warnings=result.warnings + report.warnings())
+
+
+def _robot_read(scene):
+    """(URDF path, base, start pose, label) of the scene's robot: read once a scene, as the
+    MCS link's commands must not read the same placements again (``stepping.per_scene``)."""
+    from . import roles
+    from .robot import _joint_dict, _urdf, base_of
+
+    instance = scene.robots[0]  # a scan moves one robot (stepping.mover_for says so)
+    holder = roles.role_holder(instance.obj)
+    return _urdf(holder), base_of(instance.placement()), _joint_dict(holder), holder.Label
