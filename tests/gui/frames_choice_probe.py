@@ -61,6 +61,7 @@ def begin():
     result["panel_carrier"] = panel.carrier.Name if panel.carrier is not None else None
     result["panel_box"] = [b.title() for b in panel.form.findChildren(
         __import__("PySide").QtGui.QGroupBox)]
+    result["derived"] = panel.derived.text()
     window_shot("gui-frames-choice.png")
     panel.slot_count.setValue(7)
     panel.pitch.setText("12 mm")

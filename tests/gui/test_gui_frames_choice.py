@@ -37,6 +37,8 @@ def test_the_chosen_carrier_is_set_up_and_written(gui):
     _, spare = gui["labels"]
     assert gui["panel_open"] is True and gui["panel_carrier"] == gui["spare_name"]
     assert f"Carrier: {spare}" in gui["panel_box"]
+    # an empty box: no slots derived from the other carrier's wafers
+    assert gui["derived"].startswith("Derived: nothing (no wafers"), gui["derived"]
     assert gui["accepted"] is not False, gui["messages"]
     [line] = gui["lines"]
     assert "carrier=App.getDocument(" in line
