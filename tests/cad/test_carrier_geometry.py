@@ -70,6 +70,21 @@ def test_wafers_alone_give_the_seat_and_pitch_and_the_carrier_height_the_count(p
     assert "8 level wafers" in proposal.how and "height" in proposal.how
 
 
+def test_a_second_carrier_takes_no_slots_from_the_wafers_in_another(paper_doc):
+    """Found by the GUI test of "Set up carrier and sensor" with two carriers
+    (tests/gui/test_gui_frames_choice.py): an empty box beside the paper's FOUP was offered
+    24 slots from the seats of the FOUP's wafers."""
+    doc = paper_doc
+    spare = doc.addObject("Part::Feature", "Spare")
+    spare.Shape = Part.makeBox(320, 320, 300, App.Vector(600, 0, 0))
+    doc.recompute()
+    roles.tag_carrier(spare)
+    proposal = propose_slots(spare)
+    assert proposal.slot_count is None and "no wafers" in proposal.how
+    # the FOUP's own proposal still reads its wafers
+    assert "8 level wafers" in propose_slots(doc.getObject("LP1")).how
+
+
 def test_without_wafers_or_ledges_nothing_is_proposed():
     doc = App.newDocument("Empty")
     try:

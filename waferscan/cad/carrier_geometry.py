@@ -7,8 +7,10 @@ receiver) written into each object's own frame, where its role's properties keep
 How the proposal is made (``propose_slots``):
 
 - Seats are heights along the carrier's axis, global Z (the axis a scan lifts the sensor along).
-- Level wafers (their normal along Z within 0.1 degree) give seats: their bottom faces' Z. A
-  tilted wafer (cross-slotted) sits between two seats and is left out.
+- The wafers are those whose centre lies within the carrier's bounding box (another
+  carrier's say nothing of this one). Level wafers (their normal along Z within 0.1 degree) give
+  seats: their bottom faces' Z. A tilted wafer (cross-slotted) sits between two seats and is left
+  out.
 - Support levels: the carrier's upward-facing flat faces grouped by height. The levels that look
   like the one under the lowest level wafer (as many faces, as much area) are the slots' ledges.
   Without wafers, the look that repeats most often is taken.
@@ -38,6 +40,7 @@ from .scene import scene_instances
 
 TOLERANCE = 0.05  # mm: two seats this close are one; a seat this far off a multiple is off
 LEVEL_COSINE = math.cos(math.radians(0.1))  # a wafer whose normal is this close to Z is level
+BOUNDS_MARGIN = 1.0  # mm around a carrier's bounding box that its wafers' centres lie within
 
 
 @dataclass(frozen=True)
@@ -117,12 +120,19 @@ def _ledge_levels(shape, lowest_seat):
     return ledges, levels
 
 
-def _wafer_seats(doc):
-    """(level wafers' bottom centres, how many tilted ones) of the document's wafers."""
+def _wafer_seats(doc, bounds):
+    """(level wafers' bottom centres, how many tilted ones) of the document's wafers whose
+    centre lies within ``bounds`` (the carrier's bounding box): another carrier's wafers say
+    nothing of this one's slots."""
     level, tilted = [], 0
+    bounds = App.BoundBox(bounds)
+    bounds.enlarge(BOUNDS_MARGIN)
     for instance in DocumentScene.of(doc).wafers:
+        shape = instance.shape()
+        if not bounds.isInside(shape.BoundBox.Center):
+            continue
         try:
-            center, normal, _, _ = disc_of(instance.shape())
+            center, normal, _, _ = disc_of(shape)
         except NotADisc:
             continue  # a bowed wafer: its rim's seat is not a flat disc's
         if normal[2] >= LEVEL_COSINE:
@@ -165,7 +175,7 @@ def propose_slots(carrier, beam=None):
     document's scanner's. The module's docstring says how."""
     doc = carrier.Document
     shape = instance_of(carrier).shape()
-    seats, tilted = _wafer_seats(doc)
+    seats, tilted = _wafer_seats(doc, shape.BoundBox)
     seats.sort(key=lambda c: c[2])
     wafers_said = (f"{len(seats)} level wafers" +
                    (f" ({tilted} tilted left out)" if tilted else ""))

@@ -54,11 +54,15 @@ def add_to(obj, mapping):
 
 
 def set_values(obj, mapping):
-    """Write a mapping's recipe into an object that has the properties (a calibration's)."""
-    upgrade(obj)
+    """Write a mapping's recipe into an object that has the properties (a calibration's). A
+    limit saved by an earlier version keeps its kind (a float in mm, ``OLD_NOT_SET``: not set),
+    as the Recipe section writes it: FreeCAD's Undo cannot take back a property's change of
+    type (the upgraded property went, the old one did not come back)."""
     for prop, _, key, _ in RECIPE_PROPERTIES:
         value = getattr(mapping, key)
-        if prop in _SET_TIPS:
+        if prop in _SET_TIPS and obj.getTypeIdOfProperty(prop) == OLD_KIND:
+            setattr(obj, prop, OLD_NOT_SET if value is None else float(value))
+        elif prop in _SET_TIPS:
             setattr(obj, prop, 0.0 if value is None else value)
             setattr(obj, set_flag(prop), value is not None)
         else:

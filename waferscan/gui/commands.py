@@ -25,7 +25,6 @@ from ..core.errors import WaferScanError
 from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_mcs_panel,
                       open_tolerance_study, save_calibration_recipe, show_results_dialogs)
 from .frames_panel import open_frames_panel, set_frames
-from .mcs_script import save_mcs_parameters, start_mcs_link, stop_mcs_link, store_mcs_scans
 from .playback import replay_scan, run_scan
 from .recipe_section import apply_recipe
 from .results_view import export_results_csv
@@ -33,16 +32,32 @@ from .scanning import open_scenario
 from .sensor_section import apply_sensor_settings
 from .session import doc_ref, record, report, session
 from .tagging import make_carrier_from_solids, record_tagging, tag_selection, untag_selection
-from .tolerance_dialog import run_tolerance_study, stop_tolerance_study
+
+# Named here too, but imported when a line first calls them (the MCS link's and the tolerance
+# study's modules, and what they import, cost the workbench's start-up ~40 ms otherwise).
+_LATER = {"save_mcs_parameters": "mcs_script", "start_mcs_link": "mcs_script",
+          "stop_mcs_link": "mcs_script", "store_mcs_scans": "mcs_script",
+          "run_tolerance_study": "tolerance_dialog", "stop_tolerance_study": "tolerance_dialog"}
+
+
+def __getattr__(name):
+    """A name of ``_LATER``, imported from its module on first use (PEP 562)."""
+    if name not in _LATER:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from importlib import import_module
+
+    value = getattr(import_module(f".{_LATER[name]}", __package__), name)
+    globals()[name] = value
+    return value
+
 
 __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_from_solids",
            "run_scan", "replay_scan", "export_results_csv", "calibrate_layout",
            "apply_calibration", "save_calibration_recipe", "open_mcs_panel",
-           "show_results_dialogs", "cross_check", "open_tolerance_study", "run_tolerance_study",
-           "stop_tolerance_study", "open_frames_panel", "set_frames", "apply_recipe",
-           "apply_sensor_settings", "start_mcs_link", "stop_mcs_link", "save_mcs_parameters", "store_mcs_scans",
-           "session", "record",
+           "show_results_dialogs", "cross_check", "open_tolerance_study", "open_frames_panel",
+           "set_frames", "apply_recipe", "apply_sensor_settings", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]
+__all__ += list(_LATER)
 
 
 def _objects_ref(objects):

@@ -25,10 +25,13 @@ class LinkWatch:
     """The link on ``folder`` scanning ``doc``, and ``poll_now`` called when it is time to poll:
     on a file-system event in the folder (``events``) and every ``poll_ms`` ms (0: no timer).
     ``how`` says which, in words. Raises InputError when another link (``waferscan watch``)
-    holds the folder. ``close()`` stops it all and gives the folder's lock back."""
+    holds the folder. ``close()`` stops it all and gives the folder's lock back.
+    ``before_scan()``, when given, is called before each command that reads the document (what
+    moves the document's objects, a slow scan's jabs and sweeps shown, is ended there)."""
 
-    def __init__(self, doc, folder, poll_now, events=True, poll_ms=0):
+    def __init__(self, doc, folder, poll_now, events=True, poll_ms=0, before_scan=None):
         self.folder = Path(folder)
+        self.before_scan = before_scan
         self.watcher = None
         self.timer = None
         # The link's document scanner: it follows the document's changes. Used as `waferscan
@@ -62,6 +65,8 @@ class LinkWatch:
         """``scanner`` with each result it returns kept in ``scans`` under its command's seq."""
 
         def scan(command, should_stop):
+            if self.before_scan is not None:
+                self.before_scan()
             out = scanner(command, should_stop)
             if len(self.scans) >= KEPT_SCANS:  # answers never written (a folder's fault)
                 self.scans.pop(min(self.scans))

@@ -376,7 +376,8 @@ class McsTaskPanel(ClosableTaskPanel):
         self.stop()
         poll_ms = preferences.POLL_MS if poll_ms is None else poll_ms
         try:
-            self.link = LinkWatch(self.doc, folder, self.poll, events, poll_ms)
+            self.link = LinkWatch(self.doc, folder, self.poll, events, poll_ms,
+                                  before_scan=self._stop_pockets)
         except InputError as exc:  # another link (waferscan watch) holds the folder
             self.stop()
             self._show_state(str(exc), error=True)
@@ -465,14 +466,18 @@ class McsTaskPanel(ClosableTaskPanel):
             store_in_document(self.doc, result)
 
     def _animate(self, result):
-        """The arm through the scan, in the 3D view only, over the preferences' playback time,
-        then back at its start pose as after Run scan; a newer scan's replaces it. A layout
-        whose moving objects the view cannot move on their own (a link's) is not animated: it
-        would move the document, which the next command reads."""
+        """The scan played as Run scan plays it (``playback.play_scan``, without its panel and
+        dialogs: this panel and the results shown are the link's): the arm through the Z steps
+        in the 3D view only, over the preferences' playback time, then back at its start pose;
+        a slow scan's jabs and sweeps after, pocket by pocket. A newer scan replaces it. A
+        layout whose moving objects the view cannot move on their own (a link's) is not
+        animated: it would move the document, which the next command reads. The jabs and
+        sweeps do move the document (as Run scan's): the next command the link carries out
+        ends them first (``LinkWatch``'s ``before_scan``), the arm back in its start pose."""
         from ..cad.reader import DocumentScene
         from ..cad.stepping import mover_for
-        from .animation import ScanAnimation, ViewPose
-        from .session import session
+        from .animation import ViewPose
+        from .playback import play_scan
 
         self.stop_animation()
         scene = DocumentScene.of(self.doc)
@@ -480,19 +485,22 @@ class McsTaskPanel(ClosableTaskPanel):
         if pose is None:
             return
         pose.release()
-        previous = session.animation
-        if previous is not None:
-            previous.stop()
-        animation = ScanAnimation(self.doc, result, duration_s=preferences.playback_seconds(),
-                                  scene=scene)
         # FreeCAD quitting while it plays ends it in time (qt.GuiDocumentClosing), as Run
         # scan's.
-        self.animation = session.animation = animation
-        animation.play()
+        self.animation = play_scan(self.doc, result, show_results=False, panel=False,
+                                   duration_s=preferences.playback_seconds(), scene=scene)
+
+    def _stop_pockets(self):
+        from .playback import stop_pockets
+
+        stop_pockets(self.doc)
 
     def stop_animation(self):
+        from .playback import stop_pockets
+
         if self.animation is not None and not self.animation.ended:
             self.animation.stop()
+        stop_pockets(self.doc)
 
     def _follow_parameters(self):
         """parameters.txt changed on disk (the MCS wrote it): show it, unless the user is

@@ -11,7 +11,7 @@ from .scanning import changed_since, scan_and_store
 from .session import (check_no_other_task_panel, doc_ref, last_result, record, report, session,
                       show_task_panel)
 
-__all__ = ["run_scan", "replay_scan", "play_scan"]
+__all__ = ["run_scan", "replay_scan", "play_scan", "stop_pockets"]
 
 
 def run_scan(doc, steps_per_frame=None, show_results=True, panel=True, duration_s=None):
@@ -43,6 +43,7 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
     previous = session.animation
     if previous is not None:
         previous.stop()
+    stop_pockets()  # a slow scan's jabs and sweeps still playing: this scan replaces them
     if steps_per_frame is None and duration_s is None:
         duration_s = preferences.playback_seconds()
     animation = ScanAnimation(doc, result, steps_per_frame or 10, duration_s, scene)
@@ -64,6 +65,14 @@ def play_scan(doc, result, steps_per_frame=None, show_results=True, panel=True,
         animation.finished.connect(lambda: animation.completed and on_completed())
     animation.play()
     return animation
+
+
+def stop_pockets(doc=None):
+    """End the jabs and sweeps playing (of ``doc`` only, when given): the arm back in its
+    start pose. They move the document (``pocket_animation``), which the next scan reads."""
+    pockets = session.pocket_animation
+    if pockets is not None and not pockets.ended and (doc is None or pockets.doc is doc):
+        pockets.stop()
 
 
 def replay_scan(doc, duration_s=None, show_results=True):

@@ -91,7 +91,11 @@ class ToleranceStudyDialog(QtGui.QDialog):
         self.workers_spin.setValue((os.cpu_count() or 1) if workers is None else workers)
         self.workers_spin.setToolTip("Dask worker processes on this machine (0: no Dask)")
         form.addRow("Workers", self.workers_spin)
-        self.out_edit = QtGui.QLineEdit(out or os.path.join(self._scratch, "out"))
+        # Empty: a temporary folder of this dialog's, not named in the recorded line (it
+        # will not be there when a macro replays it).
+        self.out_edit = QtGui.QLineEdit(out or "")
+        self.out_edit.setPlaceholderText("(a temporary folder)")
+        self.out_used = None  # where the last sweep started writes
         form.addRow("Output folder", self.out_edit)
         self.run_button = QtGui.QPushButton("Run")
         self.run_button.clicked.connect(self._record_run)
@@ -152,14 +156,21 @@ class ToleranceStudyDialog(QtGui.QDialog):
         return ["-m", "waferscan.cli", "sweep", source, "--tolerances",
                 self.tolerance_edit.text().strip(), "-n", str(self.n_spin.value()), "--seed",
                 str(self.seed_spin.value()), "--workers", str(self.workers_spin.value()),
-                "--out", self.out_edit.text().strip()]
+                "--out", self.out_folder()]
+
+    def out_folder(self):
+        """The output folder the user chose, or else the dialog's temporary one."""
+        return self.out_edit.text().strip() or os.path.join(self._scratch, "out")
 
     def settings(self):
-        """The fields as ``run_tolerance_study``'s keyword arguments."""
-        return {"input_path": self.input_edit.text().strip(),
-                "tolerances": self.tolerance_edit.text().strip(), "n": self.n_spin.value(),
-                "seed": self.seed_spin.value(), "workers": self.workers_spin.value(),
-                "out": self.out_edit.text().strip()}
+        """The fields as ``run_tolerance_study``'s keyword arguments; ``out`` only when the
+        user chose a folder (none: a temporary folder, made again on replay)."""
+        settings = {"input_path": self.input_edit.text().strip(),
+                    "tolerances": self.tolerance_edit.text().strip(), "n": self.n_spin.value(),
+                    "seed": self.seed_spin.value(), "workers": self.workers_spin.value()}
+        if self.out_edit.text().strip():
+            settings["out"] = self.out_edit.text().strip()
+        return settings
 
     def _record_run(self):
         """Run, as the line a script would write (the dialog's fields as its arguments)."""
@@ -203,6 +214,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
             self._fail(str(exc))
             return
         self.last_arguments = args
+        self.out_used = args[args.index("--out") + 1]
         self.state = "running"
         self.summary = None
         self._stderr = b""
@@ -243,7 +255,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
             self.progress.setRange(0, 1)
             self.progress.setValue(0)
             self.status.setText("stopped: the sweep was interrupted; nothing was written to "
-                                f"{self.out_edit.text().strip()}")
+                                f"{self.out_used}")
             App.Console.PrintMessage("WaferScan: tolerance study stopped\n")
             return
         if code != 0:
@@ -251,7 +263,7 @@ class ToleranceStudyDialog(QtGui.QDialog):
             errors = [line for line in lines if "error" in line.lower()]
             self._fail((errors or lines or [f"the sweep stopped with status {code}"])[-1])
             return
-        out = Path(self.out_edit.text().strip())
+        out = Path(self.out_used)
         self.summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
         from ..sweep import format_summary
 
