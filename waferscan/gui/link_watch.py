@@ -13,7 +13,7 @@ from PySide import QtCore
 
 from ..cad.mcs_watch import document_scanner
 from ..core.errors import InputError
-from ..core.files.mcs import COMMANDS
+from ..core.files.mcs import COMMANDS, refusal
 from ..core.files.mcs_link import McsLink
 
 __all__ = ["LinkWatch"]
@@ -78,9 +78,12 @@ class LinkWatch:
 
     def scanned(self, answer):
         """The ScanResult an ``ok`` answer reports (an SCF's or SCS's scan, a CAL's check
-        scan), or None; taken: asked once."""
+        scan), or one refused for its contacts (SPEC §15: the MCS is told not to run it; the
+        engineer is shown where the fork meets a wafer), or None; taken: asked once."""
         result = self.scans.pop(answer.seq, None)
-        return result if answer.status == "ok" else None
+        if result is None:
+            return None
+        return result if answer.status == "ok" or refusal(result) else None
 
     def poll(self):
         """Carry out what commands.txt holds that results.txt has not answered; returns the
