@@ -32,7 +32,7 @@ def next_case():
     case = CASES.pop(0)
     folder = BASE / case
     folder.mkdir()
-    from waferscan.gui.dialogs import open_mcs_panel
+    from waferscan.gui.mcs_script import open_mcs_panel
     from waferscan.gui.session import session
 
     if App.ActiveDocument is None:

@@ -26,7 +26,7 @@ def next_layout():
         return
     scenario, folder, states = LAYOUTS.pop(0)
     from waferscan.cad.layout_files import open_layout
-    from waferscan.gui.dialogs import open_mcs_panel
+    from waferscan.gui.mcs_script import open_mcs_panel
 
     Gui.activateWorkbench("WaferScanWorkbench")
     doc = open_layout(scenario)

@@ -7,8 +7,9 @@ receiver) written into each object's own frame, where its role's properties keep
 How the proposal is made (``propose_slots``):
 
 - Seats are heights along the carrier's axis, global Z (the axis a scan lifts the sensor along).
-- The wafers are those whose centre lies within the carrier's bounding box (another
-  carrier's say nothing of this one). Level wafers (their normal along Z within 0.1 degree) give
+- The wafers are those whose centre lies within the carrier's bounding box seen from above
+  (X and Y: wafers may stand above a plate or an open cassette; another carrier's say nothing
+  of this one). Level wafers (their normal along Z within 0.1 degree) give
   seats: their bottom faces' Z. A tilted wafer (cross-slotted) sits between two seats and is left
   out.
 - Support levels: the carrier's upward-facing flat faces grouped by height. The levels that look
@@ -40,7 +41,7 @@ from .scene import scene_instances
 
 TOLERANCE = 0.05  # mm: two seats this close are one; a seat this far off a multiple is off
 LEVEL_COSINE = math.cos(math.radians(0.1))  # a wafer whose normal is this close to Z is level
-BOUNDS_MARGIN = 1.0  # mm around a carrier's bounding box that its wafers' centres lie within
+BOUNDS_MARGIN = 1.0  # mm around a carrier's bounding box (X, Y) that its wafers' centres lie within
 
 
 @dataclass(frozen=True)
@@ -122,14 +123,15 @@ def _ledge_levels(shape, lowest_seat):
 
 def _wafer_seats(doc, bounds):
     """(level wafers' bottom centres, how many tilted ones) of the document's wafers whose
-    centre lies within ``bounds`` (the carrier's bounding box): another carrier's wafers say
-    nothing of this one's slots."""
+    centre lies within ``bounds`` (the carrier's bounding box) seen from above: another
+    carrier's wafers say nothing of this one's slots."""
     level, tilted = [], 0
-    bounds = App.BoundBox(bounds)
-    bounds.enlarge(BOUNDS_MARGIN)
     for instance in DocumentScene.of(doc).wafers:
         shape = instance.shape()
-        if not bounds.isInside(shape.BoundBox.Center):
+        centre = shape.BoundBox.Center
+        # Seen from above: a carrier's wafers may stand above it (a plate, an open cassette)
+        if not (bounds.XMin - BOUNDS_MARGIN <= centre.x <= bounds.XMax + BOUNDS_MARGIN
+                and bounds.YMin - BOUNDS_MARGIN <= centre.y <= bounds.YMax + BOUNDS_MARGIN):
             continue
         try:
             center, normal, _, _ = disc_of(shape)

@@ -22,8 +22,8 @@ from ..addon import icon_path, paper_scenario
 from ..core.errors import WaferScanError
 # What recorded lines call, as waferscan.gui.commands.<name>: macros replay these names from
 # here. ``session`` too: scripts and probes read what the workbench keeps through it.
-from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_mcs_panel,
-                      open_tolerance_study, save_calibration_recipe, show_results_dialogs)
+from .dialogs import (apply_calibration, calibrate_layout, cross_check, open_tolerance_study,
+                      save_calibration_recipe, show_results_dialogs)
 from .frames_panel import open_frames_panel, set_frames
 from .playback import replay_scan, run_scan
 from .recipe_section import apply_recipe
@@ -35,7 +35,8 @@ from .tagging import make_carrier_from_solids, record_tagging, tag_selection, un
 
 # Named here too, but imported when a line first calls them (the MCS link's and the tolerance
 # study's modules, and what they import, cost the workbench's start-up ~40 ms otherwise).
-_LATER = {"save_mcs_parameters": "mcs_script", "start_mcs_link": "mcs_script",
+_LATER = {"open_mcs_panel": "mcs_script", "save_mcs_parameters": "mcs_script",
+          "start_mcs_link": "mcs_script",
           "stop_mcs_link": "mcs_script", "store_mcs_scans": "mcs_script",
           "run_tolerance_study": "tolerance_dialog", "stop_tolerance_study": "tolerance_dialog"}
 
@@ -53,7 +54,7 @@ def __getattr__(name):
 
 __all__ = ["open_scenario", "tag_selection", "untag_selection", "make_carrier_from_solids",
            "run_scan", "replay_scan", "export_results_csv", "calibrate_layout",
-           "apply_calibration", "save_calibration_recipe", "open_mcs_panel",
+           "apply_calibration", "save_calibration_recipe",
            "show_results_dialogs", "cross_check", "open_tolerance_study", "open_frames_panel",
            "set_frames", "apply_recipe", "apply_sensor_settings", "session", "record",
            "COMMANDS", "TAG_COMMANDS", "register"]

@@ -1,6 +1,6 @@
 """The windows the commands open, each from the layout as it is now: the results table and the
 slot code (one of each per document, closed with it), the B-rep cross-check, the calibration
-(SPEC §11), the tolerance study (SPEC §12) and the MCS link's task panel. Everything shown comes
+(SPEC §11) and the tolerance study (SPEC §12) (the MCS link's task panel: ``mcs_script``). Everything shown comes
 from ``cad`` and ``core``; nothing is computed here."""
 
 from __future__ import annotations
@@ -12,11 +12,10 @@ from PySide import QtCore, QtGui
 from ..core.errors import InputError, WaferScanError
 from .qt import alive, fitted_size
 from .scanning import result_now
-from .session import check_no_other_task_panel, report, session, show_task_panel, transaction
+from .session import report, session, transaction
 
 __all__ = ["show_results_dialogs", "fit_screen", "cross_check", "calibrate_layout",
-           "apply_calibration", "save_calibration_recipe", "open_tolerance_study",
-           "open_mcs_panel"]
+           "apply_calibration", "save_calibration_recipe", "open_tolerance_study"]
 
 DIALOG_TITLES = {"table": "WaferScan results", "code": "WaferScan slot code"}
 
@@ -206,12 +205,3 @@ def open_tolerance_study(input_path="", **settings):
     from .tolerance_dialog import open_study
 
     return open_study(input_path, **settings)
-
-
-def open_mcs_panel(doc, folder=None):
-    """The MCS link's task panel on ``doc``, on ``folder`` (None: the preferences' folder).
-    Returns the panel."""
-    from .mcs_panel import McsTaskPanel  # below commands, which imports this module
-
-    check_no_other_task_panel()
-    return show_task_panel(McsTaskPanel(doc, folder, show_results_dialogs))

@@ -71,7 +71,7 @@ class McsTaskPanel(ClosableTaskPanel):
     def __init__(self, doc, folder=None, show_results=None):
         self.doc = doc
         # How a scan answered is shown as Run scan shows it (``dialogs.show_results_dialogs``,
-        # given by ``dialogs.open_mcs_panel``, which opens this panel); None: not shown.
+        # given by ``mcs_script.open_mcs_panel``, which opens this panel); None: not shown.
         self.show_results = show_results
         self.link = None  # the LinkWatch while watching
         self._polling = False

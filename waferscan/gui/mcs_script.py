@@ -1,6 +1,6 @@
 """The MCS link driven from a script or a macro: what the MCS link panel's buttons record
 (``mcs_panel``), as lines of ``waferscan.gui.commands`` that replay without the panel's
-questions. ``start_mcs_link`` opens the panel when it is not open (``dialogs.open_mcs_panel``);
+questions. ``start_mcs_link`` opens the panel when it is not open (``open_mcs_panel``);
 the others act on the panel open on the document, or, for ``save_mcs_parameters``, write the
 file without it."""
 
@@ -14,10 +14,21 @@ from ..cad.reader import read_layout
 from ..core.errors import InputError
 from ..core.files.mcs import PARAMETERS, apply_parameters, parse_parameters
 from ..core.files.text_files import atomic_write_text
-from .dialogs import open_mcs_panel
+from .dialogs import show_results_dialogs
 from .mcs_panel import McsTaskPanel
 
-__all__ = ["start_mcs_link", "stop_mcs_link", "store_mcs_scans", "save_mcs_parameters"]
+__all__ = ["open_mcs_panel", "start_mcs_link", "stop_mcs_link", "store_mcs_scans",
+           "save_mcs_parameters"]
+
+
+def open_mcs_panel(doc, folder=None):
+    """The MCS link's task panel on ``doc``, on ``folder`` (None: the preferences' folder).
+    Returns the panel. (Here, not in ``dialogs``: the panel plays scans through ``playback``,
+    which shows its results through ``dialogs``.)"""
+    from .session import check_no_other_task_panel, show_task_panel
+
+    check_no_other_task_panel()
+    return show_task_panel(McsTaskPanel(doc, folder, show_results_dialogs))
 
 
 def _open_panel(doc):
