@@ -123,5 +123,5 @@ def test_the_document_engine_keeps_nothing_from_one_command_to_the_next(tmp_path
     kept = (min(traced[-5:]) - traced[3]) / (commands - 1 - 3)
     print(f"{layout}: {kept:+.0f} B a command ({traced[3]} -> {traced[-5:]} B)")
     # By this measure the old reads kept >= 1.5 kB a command; today 68-301 B here (the coal
-    # objects given back late make it noisy), and one fresh-root run failed the 600 B limit.
+    # objects given back late make it noisy): 600 B was too close.
     assert kept < 1000, kept
