@@ -161,6 +161,9 @@ def bench_paper(scenario_path, rounds, add):
         _check(results[name], reference, f"{name} on the paper")
     for name in ("document", "brep", "loop scan_layout"):
         _check(_runs(results[name]), expected, name, on="the paper")
+    if results["analytic document"].clearance is None \
+            or results["analytic document, no clearance"].clearance is not None:
+        raise AssertionError("the clearance rows did not time what they are named for")
     for name in tasks:
         add(row("paper", name, paper, times[name]))
     return {"loop/analytic": median_ratio(times["loop"], times["analytic"]),
