@@ -15,6 +15,12 @@ settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("explore", print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
+# The tests press Ctrl-C on the processes they start (SIGINT), as a user at a terminal does. A
+# suite started in the background of a shell without job control (`make test &` in a script)
+# inherits SIGINT ignored, and so would every process it starts: Python then installs no
+# KeyboardInterrupt at all. Handled here, the children start with SIGINT's default action.
+signal.signal(signal.SIGINT, signal.default_int_handler)
+
 TESTS = Path(__file__).resolve().parent
 ROOT = TESTS.parent
 if str(TESTS) not in sys.path:

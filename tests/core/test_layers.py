@@ -137,7 +137,7 @@ MAY_IMPORT = {
     "cad": {"core", "robot", "addon"},
     "plots": {"core"},  # draws what core computed, nothing of FreeCAD's
     "sweep": {"core", "cad", "plots", "addon"},
-    "bench": {"core", "robot", "cad", "plots", "sweep", "addon"},
+    "bench": {"core", "robot", "cad", "plots", "sweep", "host", "addon"},
     # the host link: its E87 model and HSMS side use core alone; `waferscan serve` scans the
     # layout through cad
     "host": {"core", "cad", "addon"},

@@ -389,7 +389,7 @@ def test_command_problems():
         (5, "SCF", (), 1, None),
         (4, "SCF", (), 2, "seq 4 is not above the one before (5)"),
         (None, "SCF", (), 3, "seq must be a whole number, got 'x'"),
-        (6, "JUMP", (), 4, "unknown command 'JUMP' (known: SCF, SCS, STOP, CAL)"),
+        (6, "JUMP", (), 4, "unknown command 'JUMP' (known: SCF, SCS, STOP, CAL, LOAD)"),
         (7, "", (), 5, "no command after the seq"),
         (8, "SCF", (), 6, None),
         (8, "SCF", (), 7, "seq 8 is not above the one before (8)"),

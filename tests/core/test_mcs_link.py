@@ -108,7 +108,7 @@ def test_problems_are_answered_with_errors_and_the_link_goes_on(tmp_path):
     write(tmp_path, "1 JUMP\n2 SCF bad\n2 SCF\nx SCF\n3 SCF\n")
     answers = link(tmp_path).poll()
     assert [(a.seq, a.status) for a in answers] == [(1, "error"), (2, "error"), (3, "ok")]
-    assert answers[0].message == "unknown command 'JUMP' (known: SCF, SCS, STOP, CAL)"
+    assert answers[0].message == "unknown command 'JUMP' (known: SCF, SCS, STOP, CAL, LOAD)"
     assert answers[1].message == "parameters.txt:3: z_step: must not be negative"
     history = sorted(p.name for p in (tmp_path / "history").iterdir())
     assert history == ["results-00000001.txt", "results-00000002.txt", "results-00000003.txt"]

@@ -155,7 +155,7 @@ def test_an_unknown_command_is_not_echoed_in_full(tmp_path):
     l = Link(tmp_path)
     assert l.poll() == [(1, "?", "error")]
     message = results_header(tmp_path)["message"]
-    assert message == f"unknown command '{'Z' * 40}'… (900 characters) (known: SCF, SCS, STOP, CAL)"
+    assert message == f"unknown command '{'Z' * 40}'… (900 characters) (known: SCF, SCS, STOP, CAL, LOAD)"
 
 
 def test_one_folder_one_link(tmp_path):

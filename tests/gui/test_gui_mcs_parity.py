@@ -89,7 +89,7 @@ def test_the_answers_cover_each_failure(folders):
         messages = [_message(a).replace(str(gui), "FOLDER") for a in answers]
         assert messages[2] == messages[3] == \
             "FOLDER/parameters.txt:1: start_z: final_z (550) is below start_z (600)"
-        assert messages[4] == "unknown command 'FROB' (known: SCF, SCS, STOP, CAL)"
+        assert messages[4] == "unknown command 'FROB' (known: SCF, SCS, STOP, CAL, LOAD)"
         assert messages[5] == messages[6] == \
             "FOLDER/parameters.txt:1: z_step: must not be negative, got ' -0.01'"
         assert messages[7:9] == ["stopped by seq 9", "stopped the scan of seq 8"]

@@ -62,7 +62,7 @@ def test_proceed_without_a_map_accepts_the_map_as_read():
 
 def test_the_real_hosts_attributes_are_accepted_and_kept():
     ports = waiting()
-    content = [[f"LOT1", f"W{i:02d}"] for i in range(1, 26)]
+    content = [["LOT1", f"W{i:02d}"] for i in range(1, 26)]
     reply, events = ports.carrier_action("ProceedWithCarrier", "FOUP1", 1, [
         ("Capacity", 25), ("Usage", "PRODUCT"), ("SlotMap", list(PAPER_E87)),
         ("ContentMap", content), ("SubstrateCount", 12)])

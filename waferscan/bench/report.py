@@ -9,6 +9,7 @@ import subprocess
 import tempfile
 
 from .animation import gui_animation
+from .host_link import bench_host
 from .mcs_link import bench_mcs
 from .processes import bench_processes, bench_startup, saved_layout
 from .targets import contract_entries
@@ -34,6 +35,9 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, on
         report["sweep"] = bench_sweep(paper, rounds, add, quick)
         report["contract"] = contract_entries(report, only="sweep")
         return report
+    if only == "host":  # `waferscan bench --only host`: the host link's figures alone
+        report["host"] = bench_host(scenario_path, 20 if quick else 100, add)
+        return report
     report["ratios"] = bench_paper(scenario_path, rounds, add)
     report["spot"] = bench_spot(paper, rounds, add)
     report["ratios"]["brep/analytic scan_layout on fab"] = bench_fab(
@@ -56,6 +60,11 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, on
                                           (10, 1_000, 10_000, 100_000), add)
         except (RuntimeError, OSError, subprocess.SubprocessError) as exc:
             report["mcs_error"] = str(exc)
+        try:  # SPEC §14: a carrier's arrival to its event, a verification's round trip
+            if mcs:
+                report["host"] = bench_host(layout_path, 20 if quick else 100, add)
+        except (RuntimeError, OSError, AssertionError, subprocess.SubprocessError) as exc:
+            report["host_error"] = str(exc)
         try:
             if gui:
                 report["gui_animation"] = gui_animation(layout_path)
@@ -71,6 +80,9 @@ def format_row(r):
     if r["workload"] == "mcs":
         return (f"{r['workload']:<9} {r['engine']:<32} {r['history']:>9,} lines "
                 f"{r['seconds'] * 1000:>10.3f} ms/s")
+    if r["workload"] == "host":
+        return (f"{r['workload']:<9} {r['engine']:<32} {r['carriers']:>9,} carriers "
+                f"p50 {r['p50_ms']:>8.2f} ms  p99 {r['p99_ms']:>8.2f} ms")
     if r["workload"] == "sweep":
         return (f"{r['workload']:<9} {r['engine']:<32} {r['layouts']:>9,} layouts "
                 f"{r['seconds']:>9.3f} s {r['layouts_per_minute']:>12,.0f} layouts/min")

@@ -112,6 +112,10 @@ def document_scanner(doc, folder, engine="analytic"):
         should_stop()
         path = folder / PARAMETERS
         read = read_link_parameters(path)
+        if command.name == "LOAD":  # SPEC §14: only a link with load ports takes carriers
+            raise InputError(folder / COMMANDS, command.line, "LOAD places a carrier on a load "
+                             "port of the host link: this folder is watched by a link without "
+                             "one (run `waferscan serve INPUT --hsms HOST:PORT --mcs DIR`)")
         if command.name == "CAL":  # SPEC §11: the recipe from the reference wafers
             if engine not in ENGINES:  # as `waferscan calibrate --engine` offers them
                 raise InputError(folder / COMMANDS, command.line, "CAL calibrates with the core "

@@ -24,7 +24,8 @@ from .text_files import read_text
 PARAMETERS, COMMANDS, RESULTS = "parameters.txt", "commands.txt", "results.txt"
 
 COMMAND_NAMES = {"SCF": "fast scan", "SCS": "slow scan", "STOP": "stop the running scan",
-                 "CAL": "calibrate from reference wafers (SPEC §11)"}
+                 "CAL": "calibrate from reference wafers (SPEC §11)",
+                 "LOAD": "place a carrier on a load port of the host link (SPEC §14)"}
 
 # Keys of parameters.txt besides the scan and mapping keys: the scanned carrier and its nominal
 # slots as the MCS knows them (they change what the mapping judges against, not the geometry).
