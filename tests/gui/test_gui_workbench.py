@@ -35,7 +35,7 @@ def test_screenshot_saved(gui_result):
 
 COMMANDS = ["New paper layout", "Open scenario…", "Tag selection", "Set up carrier and sensor…",
             "Run scan", "Calibrate",
-            "MCS link…", "Results table", "Slot code", "Cross-check with CAD",
+            "MCS link…", "Host link…", "Results table", "Slot code", "Cross-check with CAD",
             "Tolerance study…", "Preferences…"]
 
 

@@ -38,7 +38,8 @@ from .tagging import make_carrier_from_solids, record_tagging, tag_selection, un
 _LATER = {"open_mcs_panel": "mcs_script", "save_mcs_parameters": "mcs_script",
           "start_mcs_link": "mcs_script",
           "stop_mcs_link": "mcs_script", "store_mcs_scans": "mcs_script",
-          "run_tolerance_study": "tolerance_dialog", "stop_tolerance_study": "tolerance_dialog"}
+          "run_tolerance_study": "tolerance_dialog", "stop_tolerance_study": "tolerance_dialog",
+          "open_host_panel": "host_panel"}
 
 
 def __getattr__(name):
@@ -202,6 +203,15 @@ class McsLinkCommand(_Command):
         record(f"open_mcs_panel({doc_ref(App.ActiveDocument)})")
 
 
+class HostLinkCommand(_Command):
+    menu, icon = "Host link…", "WaferScan_HostLink.svg"
+    tip = ("Make the layout's carriers SEMI E87 load ports of an HSMS equipment that a factory "
+           "host connects to and verifies the slot maps of (SECS/GEM)")
+
+    def run(self):
+        record(f"open_host_panel({doc_ref(App.ActiveDocument)})")
+
+
 class ResultsTableCommand(_Command):
     shows_only = True
     menu, icon = "Results table", "WaferScan_Results.svg"
@@ -275,6 +285,7 @@ COMMANDS = {
     "WaferScan_RunScan": RunScan(),
     "WaferScan_Calibrate": CalibrateCommand(),
     "WaferScan_McsLink": McsLinkCommand(),
+    "WaferScan_HostLink": HostLinkCommand(),
     "WaferScan_Results": ResultsTableCommand(),
     "WaferScan_SlotCode": SlotCodeCommand(),
     "WaferScan_CrossCheck": CrossCheckCommand(),

@@ -211,6 +211,13 @@ class SlotCodeDialog(QtGui.QDialog):
             swatch = QtGui.QLabel(f"{code}  {name}", self)
             swatch.setStyleSheet(f"background: rgb({r},{g},{b}); padding: 2px 6px;")
             legend.addWidget(swatch)
+        # SPEC §14: a carrier loaded on the host link: the host's verification of this map
+        self.host_label = QtGui.QLabel(self)
+        # its own lines' height always (a line for the status, one for a failure's reason):
+        # the plots below give way when the reason is added
+        self.host_label.setSizePolicy(QtGui.QSizePolicy.Preferred, QtGui.QSizePolicy.Fixed)
+        self.host_label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        self.host_label.hide()
         self.side_view = SideView(result, STATE_COLOURS, self)
         # SPEC §13: the simulated time of a fast and of a slow scan side by side (the trade-off).
         durations = result.durations
@@ -244,6 +251,7 @@ class SlotCodeDialog(QtGui.QDialog):
         lower.addLayout(side)
         layout = QtGui.QVBoxLayout(self)
         layout.addWidget(self.code_label)
+        layout.addWidget(self.host_label)  # one line under the code, the width of the dialog
         layout.addLayout(strip)
         from .signal_view import SignalView  # SPEC §10: the sensor's signal, the whole scan
 
@@ -254,3 +262,16 @@ class SlotCodeDialog(QtGui.QDialog):
     def copy_code(self):
         QtGui.QApplication.clipboard().setText(self.result.code)
         App.Console.PrintMessage(f"WaferScan: slot code {self.result.code} copied\n")
+
+    def set_host_status(self, carrier_id, status, reason=""):
+        """Show the host's verification of this map (SPEC §14): the carrier's E87 slot-map
+        status (``host.e87``), green when verified, red with the reason when it failed."""
+        from ..host.e87 import STATUS_NAMES, VERIFICATION_FAILED, VERIFICATION_OK
+
+        text = f"Host verification of {carrier_id}: {STATUS_NAMES[status]}"
+        if reason:
+            text += f"\n{reason}"
+        colour = {VERIFICATION_OK: "#c8f0c8", VERIFICATION_FAILED: "#f4c4c4"}.get(status)
+        self.host_label.setStyleSheet(f"background: {colour}; padding: 4px;" if colour else "")
+        self.host_label.setText(text)
+        self.host_label.show()
