@@ -35,8 +35,8 @@ def free_port():
 class Server:
     """``waferscan serve`` in a process of its own; its output in files."""
 
-    def __init__(self, tmp_path, *args, layout=PAPER):
-        self.port = free_port()
+    def __init__(self, tmp_path, *args, layout=PAPER, port=None):
+        self.port = port or free_port()
         self.folder = tmp_path / "mcs"
         self.folder.mkdir(exist_ok=True)
         self.out_path, self.err_path = tmp_path / "serve.out", tmp_path / "serve.err"
@@ -51,7 +51,7 @@ class Server:
         return self.out_path.read_text()
 
     def ready(self, timeout=120):
-        assert wait_for(lambda: "listening on" in self.out or self.process.poll() is not None,
+        assert wait_for(lambda: "Ctrl-C to stop" in self.out or self.process.poll() is not None,
                         timeout), "serve did not start"
         assert self.process.poll() is None, self.err_path.read_text()
 
@@ -268,11 +268,32 @@ def test_a_second_host_waits_until_the_first_leaves(server, host):
         other.close()
 
 
-def test_what_the_equipment_cannot_understand_is_answered_with_stream_9(server, host):
+class Raw:
+    """A message of any stream, function and body, as a misbehaving host sends it."""
+
+    def __init__(self, stream, function, body=b""):
+        self.stream, self.function, self.body = stream, function, body
+        self.is_reply_required = True
+
+    def encode(self):
+        return self.body
+
+    def __repr__(self):
+        return f"S{self.stream}F{self.function} W <raw {self.body.hex()}> ."
+
+
+@pytest.mark.parametrize("message, answer", [
+    (Raw(99, 1), 3),  # no stream 99
+    (Raw(1, 99), 5),  # stream 1 has no function 99
+    (Raw(3, 17, b"\x01\x02\xa5\x01\x07"), 7),  # an S3F17 whose body is not one
+    (Raw(7, 19), 5),  # a function this equipment does not carry out
+], ids=["unknown stream", "unknown function", "malformed S3F17", "S7F19"])
+def test_what_the_equipment_cannot_understand_is_answered_with_stream_9(server, host, message,
+                                                                        answer):
     s = server("--empty")
     h = host(s.port)
-    reply = h.handler.send_and_waitfor_response(h.handler.stream_function(7, 19)())
-    assert (reply.header.stream, reply.header.function) == (9, 5)
+    reply = h.handler.send_and_waitfor_response(message)
+    assert (reply.header.stream, reply.header.function) == (9, answer)
     assert h.ask(1, 1).get() == ["WSCAN", "0.1.0"]  # the link stays up
 
 
@@ -380,3 +401,60 @@ def test_the_bench_measures_the_host_link():
     assert [(r["workload"], r["engine"], r["carriers"]) for r in rows] == [
         ("host", "arrival -> slot-map event", 3), ("host", "S3F17 -> S3F18", 3)]
     assert all(0 < p50 <= p99 for p50, p99 in figures.values())
+
+
+TWO_CARRIERS = PAPER.read_text() + """
+[[carrier]]
+name = "LP2"
+slots = 13
+pitch = 20.0
+first_slot_z = 600.0
+center = [0.0, 400.0]
+wafer_diameter = 300.0
+wafer_thickness = 0.775
+"""
+
+
+def test_several_carriers_are_several_ports_and_load_names_the_port(server, host, tmp_path):
+    layout = tmp_path / "two.toml"
+    layout.write_text(TWO_CARRIERS)
+    s = server("--empty", layout=layout)
+    assert "ports 1 = LP1 (LP1), 2 = LP2 (LP2)" in s.out
+    h = host(s.port)
+    h.subscribe()
+    answer = s.load("FOUPA", "2")  # LP2 lies above the paper's scan: every slot unscanned
+    assert (answer["status"], answer["code"], answer["e87"]) == ("ok", "?" * 13, "0" * 13)
+    assert answer["warning"].startswith("slots 1, 2, 3")
+    ceid, values = h.event()
+    ceid, values = h.event()
+    assert (ceid, values["port_id"], values["slot_map"]) == (EVENTS["waiting_for_host"], 2,
+                                                            [0] * 13)
+    # unscanned is never empty: a host expecting an empty carrier is refused
+    caack, errors = h.proceed("FOUPA", port=2, attributes=[
+        {"ATTRID": "SlotMap", "ATTRDATA": V.Array(V.U1, [1] * 13)}])
+    assert (caack, errors[0][0]) == (3, 9) and "not wholly scanned" in errors[0][1]
+    assert s.load("FOUPB", "LP1")["code"] == "1101221001220001010000010"
+    answer = s.load("FOUPC")
+    assert answer["status"] == "error" and "several ports" in answer["message"]
+    answer = s.load("FOUPA", "1")
+    assert answer["message"].endswith("LOAD: carrier 'FOUPA' is already at port 2")
+
+
+def test_active_the_equipment_connects_to_a_listening_host(server, tmp_path):
+    from waferscan.host import hsms
+
+    port = free_port()
+    listening = secsgem.gem.GemHostHandler(hsms.EquipmentSettings(
+        address="127.0.0.1", port=port, connect_mode=secsgem.hsms.HsmsConnectMode.PASSIVE,
+        device_type=secsgem.common.DeviceType.HOST, streams_functions=messages.registry(),
+        t3=10.0, t5=1.0))
+    listening.enable()
+    try:
+        s = server("--active", "--empty", port=port)
+        assert f"connecting to 127.0.0.1:{port}" in s.out
+        assert listening.waitfor_communicating(20)
+        reply = listening.send_and_waitfor_response(listening.stream_function(1, 1)())
+        assert listening.settings.streams_functions.decode(reply).get() == ["WSCAN", "0.1.0"]
+        assert s.stop() == 0
+    finally:
+        hsms.close(listening, 5)
