@@ -115,7 +115,7 @@ def test_an_unscanned_slot_never_passes_for_empty():
 
 
 @pytest.mark.parametrize("action, carrier, port, attributes, caack, code, text", [
-    ("ProceedWithCarier", "FOUP1", 1, [], INVALID_COMMAND, e87.COMMAND_NOT_VALID_NOW,
+    ("ProceedWithCarier", "FOUP1", 1, [], INVALID_COMMAND, e87.UNSUPPORTED_OPTION,
      "unknown carrier action 'ProceedWithCarier' (this load port carries out "
      "ProceedWithCarrier and CancelCarrier)"),
     ("ProceedWithCarrier", "FOUP9", 1, [], INVALID_DATA, e87.UNKNOWN_OBJECT_INSTANCE,
@@ -173,6 +173,20 @@ def test_get_attributes_of_a_carrier():
     found, errors = ports.attributes("FOUP1", ["Capacity", "Weight"])
     assert found == [("Capacity", 25)] and [e.code for e in errors] == [e87.UNKNOWN_ATTRIBUTE]
     assert ports.attributes("NOPE") is None
+
+
+def test_a_carrier_cancelled_while_it_is_scanned_is_not_read_and_a_waiting_port_is_occupied():
+    ports = LoadPorts([LoadPort(1, "LP1", 25)])
+    ports.arrive(1, "FOUP1")
+    assert "FOUP1" in ports.occupant(1) and "SLOT MAP NOT READ" in ports.occupant(1)
+    assert ports.carrier_action("CancelCarrier", "FOUP1", 1, [])[0].caack == ACKNOWLEDGED
+    assert ports.slot_map_read(1, PAPER_E87, carrier_id="FOUP1") is None
+    assert ports.occupant(1) is None
+    ports.arrive(1, "FOUP2")
+    ports.slot_map_read(1, PAPER_E87, carrier_id="FOUP2")
+    assert "WAITING FOR HOST" in ports.occupant(1)
+    ports.carrier_action("ProceedWithCarrier", "FOUP2", 1, [])
+    assert ports.occupant(1) is None  # verified: the next carrier may come
 
 
 def test_a_map_cannot_be_read_twice_or_of_the_wrong_length():

@@ -46,8 +46,12 @@ def test_a_file_sets_what_it_names_and_keeps_the_rest(tmp_path):
      "'A VERY LONG MODEL NAME'"),
     ('[equipment]\ndevice_id = 40000\n', 2,
      "[equipment] device_id: expected an integer 0-32767 (HSMS session ID), got 40000"),
-    ('[[port]]\ncarrier = "LP1"\n\n[[port]]\ncarrier = "LP2"\nnumber = 1\n', 6,
+    ('[[port]]\ncarrier = "LP1"\nnumber = 1\n\n[[port]]\ncarrier = "LP2"\nnumber = 1\n', 7,
      "[[port]] #2 number: port 1 is already carrier 'LP1''s"),
+    ('[status]\ncarrier_id = 1000\n', 2, "ID 1001 is used twice: secsgem's built-in SVID 1001 "
+                                          "and [status] carrier_id of port 1"),
+    ('[events]\nverification_ok = 3\n', 2, "ID 3 is used twice: secsgem's built-in CEID 3 and "
+                                           "[events] verification_ok"),
     ('[[port]]\ncarrier = "LP9"\n', 2,
      "[[port]] carrier: no carrier named 'LP9' in the layout (carriers: LP1, LP2, LP3)"),
     ('[[port]]\ncarrier = "LP1"\nptn = 3\n', 3,
@@ -77,3 +81,11 @@ def test_a_carrier_id_given_twice_is_refused(tmp_path):
 def test_a_missing_file_is_named(tmp_path):
     with pytest.raises(InputError, match="ids.toml: cannot read the IDs file"):
         read_ids(tmp_path / "ids.toml")
+
+
+def test_a_port_without_a_number_is_numbered_in_the_layouts_order(tmp_path):
+    path = tmp_path / "ids.toml"
+    path.write_text('[[port]]\ncarrier = "LP3"\ncarrier_id = "FOUP-C"\n\n'
+                    '[[port]]\ncarrier = "LP1"\nnumber = 3\n')
+    assert read_ids(path).assign_ports(CARRIERS) == (
+        PortIds("LP1", 3, "LP1"), PortIds("LP2", 1, "LP2"), PortIds("LP3", 2, "FOUP-C"))

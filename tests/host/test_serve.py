@@ -69,7 +69,12 @@ class Server:
     def stop(self):
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGINT)
-        return self.process.wait(30)
+        try:
+            return self.process.wait(30)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait(10)
+            raise
 
 
 @pytest.fixture
@@ -83,10 +88,13 @@ def server(tmp_path):
         return s
 
     yield start
-    for s in servers:
-        if s.process.poll() is None:
-            s.process.kill()
-            s.process.wait(10)
+    for s in servers:  # every server outlived what its test did to it, and stops cleanly
+        alive = s.process.poll() is None
+        code = s.stop() if alive else s.process.returncode
+        err = s.err_path.read_text()
+        assert "Traceback" not in err and "internal error" not in err, err
+        if alive:
+            assert code == 0, err
 
 
 class Host:
@@ -226,8 +234,10 @@ def test_a_host_expecting_slot_3_occupied_fails_the_verification(server, host):
 
 def test_cancel_and_a_carrier_at_start(server, host):
     s = server()  # the paper's carrier arrives at the start, named as the layout names it
+    assert wait_for(lambda: "port 1: carrier LP1 WAITING FOR HOST" in s.out, 60)
     h = host(s.port)
     carrier = s.out.split("ports 1 = ")[1].split(" (")[0]
+    assert carrier == "LP1"
     reply = h.ask(3, 17, {"DATAID": V.U4(8), "CARRIERACTION": "CancelCarrier",
                           "CARRIERID": carrier, "PTN": V.U1(1), "CATTRS": []})
     assert (reply.CAACK.get(), reply.ERRORS.get()) == (0, [])
@@ -235,6 +245,8 @@ def test_cancel_and_a_carrier_at_start(server, host):
                          "ATTRID": []})
     assert gone.ERRORS.OBJACK.get() == 1
     assert gone.ERRORS.ERROR.get()[0]["ERRCODE"] == 3
+    assert "port 1: carrier LP1 CARRIER CANCELLED (cancelled by the host)" in s.out
+    assert s.load("FOUP0005")["status"] == "ok"  # the port takes the next carrier
 
 
 def test_a_host_that_drops_and_comes_back_finds_the_carrier_where_it_was(server, host):
@@ -297,13 +309,43 @@ def test_what_the_equipment_cannot_understand_is_answered_with_stream_9(server, 
     assert h.ask(1, 1).get() == ["WSCAN", "0.1.0"]  # the link stays up
 
 
-def test_a_wrongly_typed_slot_map_is_refused(server, host):
+def test_a_wrongly_typed_slot_map_is_refused_and_changes_nothing(server, host):
     s = server("--empty")
     h = host(s.port)
     s.load("FOUP0004")
     caack, errors = h.proceed("FOUP0004", attributes=[
         {"ATTRID": "SlotMap", "ATTRDATA": V.Array(V.U4, PAPER_E87)}])
     assert caack == 3 and errors[0][0] == 7 and "expected a list of U1" in errors[0][1]
+    status = h.ask(1, 3, [V.U4(STATUS["slot_map_status"] + 1)]).get()
+    assert status == [1]  # still WAITING FOR HOST: the host may send it again, corrected
+    assert h.proceed("FOUP0004", attributes=real_host_attributes(PAPER_E87)) == (0, [])
+
+
+def test_the_reply_goes_before_the_events_it_causes_and_a_waiting_port_takes_no_carrier(
+        server, host):
+    from waferscan.host import hsms
+
+    s = server("--empty")
+    h = host(s.port)
+    received = []
+    log = hsms.attach_log(received.append, h.handler.settings.name)
+    try:
+        h.subscribe()
+        s.load("FOUP0006")
+        h.event(), h.event()
+        answer = s.load("FOUP0007")  # the host has not decided on FOUP0006 yet
+        assert answer["status"] == "error" and answer["message"].endswith(
+            "LOAD: port 1 holds carrier 'FOUP0006' (WAITING FOR HOST): the host proceeds with "
+            "it or cancels it first")
+        assert h.proceed("FOUP0006") == (0, [])
+        assert h.event()[0] == EVENTS["verification_ok"]
+    finally:
+        hsms.detach_log(log)
+    heads = [line.split("\n")[0].strip() for line in received if line.startswith("<")]
+    reply, event = heads.index("< S3F18"), max(i for i, head in enumerate(heads)
+                                                if head == "< S6F11 W")
+    assert reply < event, heads
+    assert s.load("FOUP0007")["status"] == "ok"  # verified: the next carrier may come
 
 
 def test_a_probe_or_a_dropped_connection_never_kills_the_server(server, host):

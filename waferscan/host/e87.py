@@ -39,6 +39,7 @@ UNKNOWN_OBJECT_INSTANCE = 3
 UNKNOWN_ATTRIBUTE = 4
 INVALID_ATTRIBUTE_VALUE = 7
 VERIFICATION_ERROR = 9
+UNSUPPORTED_OPTION = 14
 COMMAND_NOT_VALID_NOW = 17
 LOAD_PORT_DOES_NOT_EXIST = 48
 
@@ -186,10 +187,28 @@ class LoadPorts:
             p.host_attributes = {}
             return p.transition()
 
-    def slot_map_read(self, number, slot_map, warnings=()):
-        """The port's carrier was scanned: its E87 SlotMap, the host's turn to verify it."""
+    def occupant(self, number):
+        """Why a new carrier cannot be placed on the port now, or None: a carrier whose map is
+        not read yet or waits for the host's verification is still the host's to decide on
+        (ProceedWithCarrier or CancelCarrier). A verified carrier (OK or FAILED) leaves when the
+        next one arrives."""
         with self._lock:
             p = self._ports[number]
+            if p.carrier_id is not None and p.status in (SLOT_MAP_NOT_READ, WAITING_FOR_HOST):
+                return (f"port {number} holds carrier {p.carrier_id!r} "
+                        f"({STATUS_NAMES[p.status]}): the host proceeds with it or cancels it "
+                        "first")
+            return None
+
+    def slot_map_read(self, number, slot_map, warnings=(), carrier_id=None):
+        """The port's carrier was scanned: its E87 SlotMap, the host's turn to verify it.
+        None when the carrier is no longer there to be read (``carrier_id`` given: the host
+        cancelled it while it was being scanned)."""
+        with self._lock:
+            p = self._ports[number]
+            if carrier_id is not None and (p.carrier_id != carrier_id
+                                           or p.status != SLOT_MAP_NOT_READ):
+                return None
             if p.carrier_id is None or p.status != SLOT_MAP_NOT_READ:
                 raise ValueError(f"port {number} has no carrier waiting for its slot map")
             if len(slot_map) != p.capacity:
@@ -216,7 +235,7 @@ class LoadPorts:
         with self._lock:
             if action not in CARRIER_ACTIONS:
                 return ActionReply(INVALID_COMMAND, (Error(
-                    COMMAND_NOT_VALID_NOW, f"unknown carrier action {action!r} (this load port "
+                    UNSUPPORTED_OPTION, f"unknown carrier action {action!r} (this load port "
                     f"carries out {' and '.join(CARRIER_ACTIONS)})"),)), []
             p = self._find(carrier_id)
             if p is None:

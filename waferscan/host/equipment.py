@@ -69,6 +69,7 @@ class LoadPortEquipment(secsgem.gem.GemEquipmentHandler):
         self._transition = None  # the transition whose data values are being read
         self._data_ids = itertools.count(1)
         self._held = threading.local()  # events made while handling a message wait for its reply
+        self._last = {}  # CEID -> its last transition (S6F15)
         self._events = queue.Queue()
         self._sender = threading.Thread(target=self._send_events, name="waferscan-host-events",
                                         daemon=True)
@@ -88,6 +89,9 @@ class LoadPortEquipment(secsgem.gem.GemEquipmentHandler):
     def on_dv_value_request(self, dvid, data_value):
         t = self._transition
         key = self._data_of[data_value.dvid]
+        if t is None:  # asked outside an event (S6F15 before the event happened)
+            return messages.slot_map_item(()) if key == "slot_map" else _DATA_TYPES[key](
+                "" if _DATA_TYPES[key] is V.String else 0)
         if key == "port_id":
             return V.U1(t.port)
         if key == "carrier_id":
@@ -102,37 +106,75 @@ class LoadPortEquipment(secsgem.gem.GemEquipmentHandler):
 
     def report(self, transition):
         """Send the collection event of ``transition`` if the host linked and enabled it. The
-        S6F11 is built now, with this transition's data, and sent after the reply to the
-        message being handled on this thread, if any."""
-        ceid = self.ids.events[_EVENT_OF_STATUS[transition.status]]
-        with self._reporting:
-            link = self.registered_collection_events.get(ceid)
-            if link is None or not link.enabled:
-                self.log(f"event {ceid} ({_EVENT_OF_STATUS[transition.status]}) not sent: the "
-                         "host has not linked and enabled it")
-                return
-            self._transition = transition
-            try:
-                reports = [{"RPTID": V.U4(r["RPTID"]), "V": r["V"]}
-                           for r in self._build_collection_event(ceid)]
-            finally:
-                self._transition = None
-        s6f11 = self.stream_function(6, 11)({"DATAID": V.U4(next(self._data_ids)),
-                                              "CEID": V.U4(ceid), "RPT": reports})
-        held = getattr(self._held, "events", None)
-        if held is not None:
-            held.append(s6f11)
-        else:
-            self._events.put(s6f11)
+        S6F11 is built now, with this transition's data, and queued now (events leave in the
+        order their states changed); one made while a host's message is handled on this
+        thread leaves after that message's reply. A fault here is logged, never raised into
+        the state change that reported it."""
+        key = _EVENT_OF_STATUS[transition.status]
+        ceid = self.ids.events[key]
+        try:
+            with self._reporting:
+                self._last[ceid] = transition
+                link = self.registered_collection_events.get(ceid)
+                if link is None or not link.enabled:
+                    self.log(f"event {ceid} ({key}) not sent: the host has not linked and "
+                             "enabled it")
+                    return
+                self._transition = transition
+                try:
+                    reports = [{"RPTID": V.U4(r["RPTID"]), "V": r["V"]}
+                               for r in self._build_collection_event(ceid)]
+                finally:
+                    self._transition = None
+                s6f11 = self.stream_function(6, 11)({"DATAID": V.U4(next(self._data_ids)),
+                                                      "CEID": V.U4(ceid), "RPT": reports})
+                self._events.put((s6f11, getattr(self._held, "reply_sent", None)))
+        except Exception as exc:  # noqa: BLE001 (the state changed: only its event is lost)
+            self.log(f"event {ceid} ({key}) not sent: {type(exc).__name__}: {exc}")
 
     def _send_events(self):
+        from secsgem.gem.communication_state_machine import CommunicationState
+
         while True:
-            s6f11 = self._events.get()
-            if s6f11 is None:
+            item = self._events.get()
+            if item is None:
                 return
+            s6f11, reply_sent = item
+            if reply_sent is not None:
+                reply_sent.wait(self.settings.timeouts.t3)
+            if self.communication_state.current != CommunicationState.COMMUNICATING:
+                # E30: no data messages before communications are established
+                self.log(f"event {s6f11.CEID.get()} not sent: no host communicating")
+                continue
             if self.send_and_waitfor_response(s6f11) is None:
                 self.log(f"event {s6f11.CEID.get()} not acknowledged: no host, or no answer "
                          "within T3")
+
+    # The host's report set-up (S2F33/35/37) and its event report request (S6F15) change or
+    # read what report() builds from: one at a time with it.
+
+    def _on_s02f33(self, handler, message):
+        with self._reporting:
+            return super()._on_s02f33(handler, message)
+
+    def _on_s02f35(self, handler, message):
+        with self._reporting:
+            return super()._on_s02f35(handler, message)
+
+    def _on_s02f37(self, handler, message):
+        with self._reporting:
+            return super()._on_s02f37(handler, message)
+
+    def _on_s06f15(self, handler, message):
+        """S6F16: the event's reports with the data of its last occurrence (empty values
+        when it has not happened yet)."""
+        ceid = self.settings.streams_functions.decode(message).get()
+        with self._reporting:
+            self._transition = self._last.get(ceid)
+            try:
+                return super()._on_s06f15(handler, message)
+            finally:
+                self._transition = None
 
     def close(self, timeout=5.0):
         """Stop the link and the event sender; True if everything stopped in time."""
@@ -150,13 +192,12 @@ class LoadPortEquipment(secsgem.gem.GemEquipmentHandler):
             self.send_response(self.stream_function(9, decoded.s9_function)(
                 message.header.encode()), message.header.system)
             return None
-        self._held.events = []
+        self._held.reply_sent = reply_sent = threading.Event()
         try:
             return super()._handle_stream_function(message)
         finally:
-            for s6f11 in self._held.events:  # after the reply just sent
-                self._events.put(s6f11)
-            self._held.events = None
+            self._held.reply_sent = None
+            reply_sent.set()  # the events this message made may follow its reply now
 
     def _on_carrier_action(self, handler, message):
         request = self.settings.streams_functions.decode(message)
@@ -169,16 +210,16 @@ class LoadPortEquipment(secsgem.gem.GemEquipmentHandler):
                                       f"{messages.sml(attribute.ATTRDATA)[:80]}"))
                 continue
             attributes.append((name, messages.plain(attribute.ATTRDATA)))
+        port = request.PTN.get()
+        if not isinstance(port, int):  # a PTN of several values (<U1 1 2>)
+            wrong.append(Error(7, f"PTN: expected one port number, got {port!r:.40}"))
         if wrong:
-            reply, transitions = None, []
             caack, errors = INVALID_DATA, wrong
         else:
-            reply, transitions = self.link.ports.carrier_action(
-                action, carrier_id, int(request.PTN.get()), attributes)
+            reply = self.link.carrier_action(action, carrier_id, port, attributes)
             caack, errors = reply.caack, reply.errors
         self.log(f"S3F17 {action} {carrier_id!r}: CAACK {caack}"
                  + "".join(f"; {e.code} {e.text}" for e in errors))
-        self.link.acted(transitions)
         return self.stream_function(3, 18)({
             "CAACK": caack, "ERRORS": [{"ERRCODE": V.U4(e.code), "ERRTEXT": e.text[:120]}
                                        for e in errors]})

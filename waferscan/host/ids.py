@@ -20,6 +20,8 @@ from ..core.errors import InputError
 
 MAX_TEXT = 20  # MDLN and SOFTREV: E5 allows 20 characters (a longer S1F14 is dropped by hosts)
 MAX_U4 = 2**32 - 1
+BUILT_IN_SVIDS = (1001, 1002, 1003, 1004, 1005)
+BUILT_IN_CEIDS = (1, 2, 3, 20, 21)
 
 DEFAULTS = {
     "equipment": {"mdln": "WSCAN", "softrev": "0.1.0", "device_id": 0},
@@ -38,7 +40,7 @@ _PORT_KEYS = ("carrier", "number", "carrier_id")
 @dataclass(frozen=True)
 class PortIds:
     carrier: str  # the layout's carrier
-    number: int  # PTN
+    number: int | None  # PTN; None in a file's [[port]] without one: numbered in layout order
     carrier_id: str  # the CarrierID it is loaded with at start
 
 
@@ -68,21 +70,26 @@ class ToolIds:
                 raise InputError(self.source, self.lines.get(("port", index, "carrier")),
                                  f"[[port]] carrier: no carrier named {p.carrier!r} in the "
                                  f"layout (carriers: {', '.join(carriers)})")
-        used = {p.number for p in self.ports}
+        used = {p.number for p in self.ports if p.number is not None}
         ports, number = [], 1
-        for name in carriers:
-            if name in given:
+        for name in carriers:  # the rest numbered on from 1 in the layout's order
+            if name in given and given[name].number is not None:
                 ports.append(given[name])
                 continue
             while number in used:
                 number += 1
             used.add(number)
-            ports.append(PortIds(name, number, name))
+            carrier_id = given[name].carrier_id if name in given else name
+            ports.append(PortIds(name, number, carrier_id))
         self._check_unique(ports)
         return tuple(ports)
 
     def _check_unique(self, ports):
-        seen = {}
+        # secsgem's GEM handler answers these itself (Clock, ControlState, EventsEnabled,
+        # AlarmsEnabled, AlarmsSet; its control-state events): a port's variable there would
+        # never be read
+        seen = {vid: [("secsgem", f"built-in SVID {vid}")] for vid in BUILT_IN_SVIDS}
+        seen.update({ceid: [("secsgem", f"built-in CEID {ceid}")] for ceid in BUILT_IN_CEIDS})
         for table in ("events", "data"):
             for key, value in getattr(self, table).items():
                 seen.setdefault(value, []).append((table, key))
@@ -105,6 +112,8 @@ class ToolIds:
 
     @staticmethod
     def _name(owner):
+        if owner[0] == "secsgem":
+            return f"secsgem's {owner[1]}"
         if owner[0] == "status":
             return f"[status] {owner[1]} of port {owner[2]}"
         return f"[{owner[0]}] {owner[1]}"
@@ -194,18 +203,21 @@ def _ports(entries, text, source, lines):
             lines[("port", index, key)] = where.of("port", index, key)
         if "carrier" not in entry:
             raise error("missing key 'carrier' (the layout's carrier at this port)")
-        carrier, number = entry["carrier"], entry.get("number", index + 1)
+        carrier, number = entry["carrier"], entry.get("number")
         if not isinstance(carrier, str) or not carrier:
             raise error(f"expected a carrier's name, got {carrier!r}", "carrier")
-        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= 255:
+        if number is not None and (isinstance(number, bool) or not isinstance(number, int)
+                                   or not 1 <= number <= 255):
             raise error(f"expected a port number 1-255 (PTN is U1), got {number!r}", "number")
         carrier_id = entry.get("carrier_id", carrier)
         if not isinstance(carrier_id, str) or not carrier_id or not carrier_id.isascii():
             raise error(f"expected ASCII text, got {carrier_id!r}", "carrier_id")
-        if number in numbers:
+        if number is not None and number in numbers:
             raise error(f"port {number} is already carrier {numbers[number]!r}'s", "number")
         if carrier in carriers:
-            raise error(f"carrier {carrier!r} already has port {carriers[carrier]}", "carrier")
-        numbers[number], carriers[carrier] = carrier, number
+            raise error(f"carrier {carrier!r} has a [[port]] already", "carrier")
+        if number is not None:
+            numbers[number] = carrier
+        carriers[carrier] = number
         ports.append(PortIds(carrier, number, carrier_id))
     return tuple(ports)

@@ -8,6 +8,7 @@ until SIGINT or SIGTERM (a ``StopFlag``); a host that comes and goes does not en
 
 from __future__ import annotations
 
+import errno
 import ipaddress
 import logging
 import socket
@@ -21,14 +22,14 @@ DEFAULT_PORT = 5000  # HSMS's customary port
 
 
 def parse_address(text, option="--hsms"):
-    """HOST:PORT (HOST a name or an IPv4/IPv6 address, [v6]:PORT too) as (host, port); an
-    InputError naming the option otherwise."""
+    """HOST:PORT (HOST a name or an IPv4 address; the HSMS transport listens on IPv4) as
+    (host, port); an InputError naming the option otherwise."""
     host, sep, port = text.rpartition(":")
     if not sep:
         host, port = text, str(DEFAULT_PORT)
-    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host
-    if not host:
-        raise InputError(option, None, f"expected HOST:PORT, got {text!r}")
+    if not host or ":" in host or host.startswith("["):
+        raise InputError(option, None, f"expected HOST:PORT with an IPv4 address or a host "
+                                       f"name, got {text!r}")
     try:
         number = int(port)
     except ValueError:
@@ -48,13 +49,12 @@ def parse_address(text, option="--hsms"):
 
 def check_port_free(host, port, option="--hsms"):
     """An InputError when nothing can listen on host:port (in use, or not this machine's)."""
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    with socket.socket(family, socket.SOCK_STREAM) as probe:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
         probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         try:
             probe.bind((host, port))
         except OSError as exc:
-            reason = "in use" if exc.errno == 98 else (exc.strerror or str(exc))
+            reason = "in use" if exc.errno == errno.EADDRINUSE else (exc.strerror or str(exc))
             raise InputError(option, None, f"cannot listen on {host}:{port}: {reason}") from None
 
 
@@ -137,6 +137,9 @@ def load_command(link, command, source):
         arrival = link.load(port, carrier_id)
     except InputError as exc:
         raise refuse(exc.message) from None
+    if len(arrival.transitions) == 1:
+        return Scanned(arrival.result, f"carrier {carrier_id} at port {port}: cancelled by the "
+                                       "host while it was mapped (its map was not reported)")
     return Scanned(arrival.result, f"carrier {carrier_id} at port {port}: "
                                    f"{arrival.transitions[-1].status_name}")
 
@@ -194,9 +197,14 @@ def serve(source, address, active=False, ids_path=None, engine="analytic", stopp
         mcs = None
         try:
             if mcs_folder is not None:  # a folder another link holds is refused before listening
-                mcs = McsLink(Path(mcs_folder), mcs_scanner(doc, Path(mcs_folder), engine, link),
-                              log=out, report=lambda text: print(f"waferscan: {text}",
-                                                                 file=sys.stderr, flush=True))
+                scanner = mcs_scanner(doc, Path(mcs_folder), engine, link)
+                try:
+                    mcs = McsLink(Path(mcs_folder), scanner, log=out,
+                                  report=lambda text: print(f"waferscan: {text}",
+                                                            file=sys.stderr, flush=True))
+                except BaseException:
+                    scanner.close()
+                    raise
             try:
                 equipment.enable()
             except OSError as exc:
