@@ -500,3 +500,17 @@ def test_active_the_equipment_connects_to_a_listening_host(server, tmp_path):
         assert s.stop() == 0
     finally:
         hsms.close(listening, 5)
+
+
+def test_a_saved_layout_is_served_as_a_scenario_is(server, host, tmp_path):
+    layout = tmp_path / "paper.FCStd"
+    done = subprocess.run([*CLI, "layout", str(PAPER), "-o", str(layout)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    s = server("--empty", layout=layout)
+    h = host(s.port)
+    h.subscribe()
+    answer = s.load("FOUP0008")
+    assert (answer["status"], answer["code"]) == ("ok", "1101221001220001010000010")
+    h.event()
+    assert h.event()[1]["slot_map"] == PAPER_E87
