@@ -2,8 +2,9 @@
 host: a carrier loaded from the panel is scanned, its map reported and verified; the panel's
 table and the slot-code dialog follow the host's verification, OK and FAILED."""
 
-import socket
 from pathlib import Path
+
+from hsms_peers import free_port
 
 from waferscan.host.ids import DEFAULTS
 
@@ -13,12 +14,6 @@ ARTIFACTS = REPO / "test-artifacts"
 EVENTS = DEFAULTS["events"]
 REASON = ("SlotMap slot 3: the host expects 3 (correctly occupied), the equipment read 1 "
           "(empty)")
-
-
-def free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
 
 
 def test_a_carrier_loaded_in_the_panel_is_verified_by_the_host(run_gui_probe):

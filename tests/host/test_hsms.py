@@ -15,25 +15,11 @@ import secsgem.gem
 import secsgem.hsms
 from secsgem.gem.communication_state_machine import CommunicationState
 
+from hsms_peers import free_port, wait_for
 from waferscan.host import hsms
 from waferscan.host.messages import registry
 
 COMMUNICATING = CommunicationState.COMMUNICATING
-
-
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return sock.getsockname()[1]
-
-
-def wait_for(predicate, timeout_s=5.0):
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.01)
-    return predicate()
 
 
 def listening(port):

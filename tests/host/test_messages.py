@@ -3,7 +3,6 @@ real host sends, byte for byte and over HSMS against secsgem's own GemHostHandle
 read back as sent; messages no registry can decode, answered instead of dropped."""
 
 import doctest
-import socket
 import time
 
 import pytest
@@ -15,25 +14,11 @@ from secsgem.hsms.stream_function_header import HsmsStreamFunctionHeader
 from secsgem.secs import variables as V
 from secsgem.secs.variables.dynamic import ANYVALUE
 
+from hsms_peers import Raw, free_port, wait_for
 from waferscan.host import hsms, messages
 from waferscan.host.messages import Undecodable, is_u1_list, plain, registry, slot_map_item, typed
 
 SLOTS = [1] * 10 + [0] * 15
-
-
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return sock.getsockname()[1]
-
-
-def wait_for(predicate, timeout_s=5.0):
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.01)
-    return predicate()
 
 
 def as_message(function, system=1):
@@ -176,20 +161,6 @@ def test_a_message_that_cannot_be_decoded_names_the_s9_answer(stream, function, 
         "> .")
     with pytest.raises(ValueError):
         registry().decode(None)
-
-
-class Raw:
-    """A stream function of any number and body, as a misbehaving host would send it."""
-
-    def __init__(self, stream, function, body=b""):
-        self.stream, self.function, self.body = stream, function, body
-        self.is_reply_required = True
-
-    def encode(self):
-        return self.body
-
-    def __repr__(self):
-        return f"S{self.stream}F{self.function} W <raw {self.body.hex()}> ."
 
 
 @pytest.fixture

@@ -13,6 +13,7 @@ import secsgem.common
 import secsgem.gem
 import secsgem.hsms
 from commands import CLI, wait_for
+from hsms_peers import Raw, free_port
 from scenarios import ROOT
 from secsgem.secs import variables as V
 from secsgem.secs.variables.dynamic import ANYVALUE
@@ -24,12 +25,6 @@ PAPER = ROOT / "resources" / "examples" / "paper.toml"
 PAPER_E87 = [int(c) for c in "3313553113551113131111131"]
 EVENTS, DATA, STATUS = DEFAULTS["events"], DEFAULTS["data"], DEFAULTS["status"]
 REPORT_ID = 4001
-
-
-def free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
 
 
 class Server:
@@ -278,20 +273,6 @@ def test_a_second_host_waits_until_the_first_leaves(server, host):
         assert other.communicating(15)
     finally:
         other.close()
-
-
-class Raw:
-    """A message of any stream, function and body, as a misbehaving host sends it."""
-
-    def __init__(self, stream, function, body=b""):
-        self.stream, self.function, self.body = stream, function, body
-        self.is_reply_required = True
-
-    def encode(self):
-        return self.body
-
-    def __repr__(self):
-        return f"S{self.stream}F{self.function} W <raw {self.body.hex()}> ."
 
 
 @pytest.mark.parametrize("message, answer", [
