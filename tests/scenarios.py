@@ -22,6 +22,18 @@ EXAMPLES = ROOT / "resources" / "examples"
 
 PAPER = EXAMPLES / "paper.toml"
 PAPER_TEXT = PAPER.read_text(encoding="utf-8")
+# The paper with a second carrier, LP2, above the paper's scan: a layout of several carriers
+# (parameters.txt's carrier = NAME, the host link's ports).
+TWO_CARRIERS_TEXT = PAPER_TEXT + """
+[[carrier]]
+name = "LP2"
+slots = 13
+pitch = 20.0
+first_slot_z = 600.0
+center = [0.0, 400.0]
+wafer_diameter = 300.0
+wafer_thickness = 0.775
+"""
 PAPER_CODE = "1101221001220001010000010"  # the paper's Table 1, one digit a slot
 PAPER_E87 = "3313553113551113131111131"   # the same map in SEMI E87's digits
 

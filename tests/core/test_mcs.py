@@ -9,7 +9,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scenarios import PAPER as PAPER_PATH
-from scenarios import PAPER_CODE, PAPER_TEXT
+from scenarios import PAPER_CODE, PAPER_TEXT, TWO_CARRIERS_TEXT
 
 from waferscan.core.errors import InputError
 from waferscan.core.files import mcs
@@ -28,16 +28,7 @@ from waferscan.core.scan.layout_scan import scan_layout
 PAPER = read_scenario(PAPER_PATH)
 
 # A layout with two carriers, to see that parameters.txt's carrier = NAME picks one.
-TWO_CARRIERS = PAPER_TEXT + """
-[[carrier]]
-name = "LP2"
-slots = 13
-pitch = 20.0
-first_slot_z = 600.0
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = 0.775
-"""
+TWO_CARRIERS = TWO_CARRIERS_TEXT
 
 
 def params(text, source="parameters.txt"):

@@ -14,7 +14,7 @@ import secsgem.gem
 import secsgem.hsms
 from commands import CLI, wait_for
 from hsms_peers import Raw, free_port
-from scenarios import ROOT
+from scenarios import ROOT, TWO_CARRIERS_TEXT
 from secsgem.secs import variables as V
 from secsgem.secs.variables.dynamic import ANYVALUE
 
@@ -426,21 +426,11 @@ def test_the_bench_measures_the_host_link():
     assert all(0 < p50 <= p99 for p50, p99 in figures.values())
 
 
-TWO_CARRIERS = PAPER.read_text() + """
-[[carrier]]
-name = "LP2"
-slots = 13
-pitch = 20.0
-first_slot_z = 600.0
-center = [0.0, 400.0]
-wafer_diameter = 300.0
-wafer_thickness = 0.775
-"""
 
 
 def test_several_carriers_are_several_ports_and_load_names_the_port(server, host, tmp_path):
     layout = tmp_path / "two.toml"
-    layout.write_text(TWO_CARRIERS)
+    layout.write_text(TWO_CARRIERS_TEXT)
     s = server("--empty", layout=layout)
     assert "ports 1 = LP1 (LP1), 2 = LP2 (LP2)" in s.out
     h = host(s.port)
