@@ -44,6 +44,22 @@ SLOW_JAB_TEXT = SLOW_JAB.read_text(encoding="utf-8")
 # Without its [robot]: a robot refuses a beam that is not horizontal before the scanner's own
 # checks are reached; the scanner alone is moved by its placement (SPEC §13).
 SLOW_JAB_WITHOUT_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", SLOW_JAB_TEXT)
+# The example at the paper's depth (a 26.6 mm jab: the beam 16.6 mm into the wafers, the tines'
+# inner corners 0.650 mm from the rims), as the example was before its sweep stopped at
+# clearance_min (SPEC §13 amended): the core's closed forms alone (``scan_layout``, no robot
+# body) still turn its whole ±40° there, where the hand computations of the pocket plots and
+# the tines' strikes are made.
+SLOW_JAB_DEEP_TEXT = SLOW_JAB_TEXT.replace("jab = 20.0 ", "jab = 26.6 ", 1)
+assert SLOW_JAB_DEEP_TEXT != SLOW_JAB_TEXT
+
+
+def slow_jab_deep():
+    """SLOW_JAB_DEEP_TEXT read as a Layout."""
+    from waferscan.core.files.scenario import parse_scenario
+
+    return parse_scenario(SLOW_JAB_DEEP_TEXT, "slow_jab_deep.toml", folder=EXAMPLES)
+
+
 # The paper's scanner alone, moved by its placement, the same way.
 PAPER_WITHOUT_ROBOT = re.sub(r"\[robot\]\n(?:[^\[\n].*\n)*", "", PAPER_TEXT)
 

@@ -81,7 +81,8 @@ def _scan_input(path, engine, parameters=None, store=False):
     as its ScanResults spreadsheet and the layout saved (atomically). FreeCAD is imported only
     here."""
     from .cad.document_scan import scan_document
-    from .cad.layout_files import opened_layout, save_document
+    from .cad.layout_files import opened_layout, save_document, setting_error
+    from .core.scan.clearance import SweepBlocked
     from .cad.results_sheet import store_in_document
 
     if store and Path(path).suffix.lower() != ".fcstd":
@@ -97,6 +98,8 @@ def _scan_input(path, engine, parameters=None, store=False):
 
             result = scan_document(doc, engine, progress=progress, parameters=parameters,
                                    check=check)
+        except SweepBlocked as exc:  # named by the file and line that asked for the sweep
+            raise setting_error(exc.message, path, parameters, "scan", "sweep") from None
         finally:
             progress.close()
         if store:

@@ -219,7 +219,8 @@ def test_save_and_reload_keep_roles_proxies_and_results(paper_doc, tmp_path):
         assert roles.role_of(carrier) == roles.CARRIER
         carrier.SlotCount = 13  # the proxy rebuilds the body after reload
         reopened.recompute()
-        assert carrier.Shape.BoundBox.ZMax == pytest.approx(13 * 10.0 + 4.0, abs=1e-6)
+        # the roof over the top slot: 1.5 pitches above its seat (features.carrier_solids)
+        assert carrier.Shape.BoundBox.ZMax == pytest.approx((13 + 1.5) * 10.0 + 4.0, abs=1e-6)
         carrier.SlotCount = 25
         reopened.recompute()
         after = scan_document(reopened, "document")

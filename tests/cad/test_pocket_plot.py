@@ -5,13 +5,12 @@ drawn where the hand computation puts them on resources/examples/slow_jab.toml."
 import pytest
 from commands import cli_in_freecad, freecadcmd, waferscan
 from figures import pocket_panels, png_size
-from scenarios import SLOW_JAB
+from scenarios import SLOW_JAB, slow_jab_deep
 
 from waferscan.cli import paper_scenario
-from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-RESULT = scan_layout(read_scenario(SLOW_JAB))
+RESULT = scan_layout(slow_jab_deep())  # the paper's depth, the whole ±40° (scenarios.py)
 
 
 def test_the_panels_draw_the_beams_where_they_met_the_wafer():

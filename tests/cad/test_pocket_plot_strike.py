@@ -5,12 +5,11 @@ import math
 
 import pytest
 from figures import pocket_panels
-from scenarios import SLOW_JAB
+from scenarios import slow_jab_deep
 
-from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
-RESULT = scan_layout(read_scenario(SLOW_JAB))
+RESULT = scan_layout(slow_jab_deep())  # the paper's depth, the whole ±40° (scenarios.py)
 WRIST = (0.0, 240.0 + 26.6 - 400.0 - 260.0)  # 260 mm behind the deepest beam, from above
 
 

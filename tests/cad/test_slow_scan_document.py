@@ -37,10 +37,10 @@ def _robot_joints(doc):
 
 def test_settings_are_stored_in_the_document_and_read_back(doc):
     settings = next(o for o in doc.Objects if "Jab" in o.PropertiesList)
-    assert settings.Jab.Value == pytest.approx(26.6) and settings.Sweep.Value == pytest.approx(40)
+    assert settings.Jab.Value == pytest.approx(20.0) and settings.Sweep.Value == pytest.approx(40)
     settings.Sweep = 12.5
     layout = read_layout(doc)
-    assert (layout.scan.jab, layout.scan.sweep, layout.scan.sweep_radius) == (26.6, 12.5, 260.0)
+    assert (layout.scan.jab, layout.scan.sweep, layout.scan.sweep_radius) == (20.0, 12.5, 260.0)
 
 
 def test_the_jab_and_sweep_move_the_robots_joints_and_the_beam_follows_the_closed_form(doc):
@@ -70,8 +70,10 @@ def test_the_jab_and_sweep_move_the_robots_joints_and_the_beam_follows_the_close
 
 
 def test_document_engine_agrees_with_the_closed_forms(doc):
-    analytic = scan_document(doc, "analytic")
-    document = scan_document(doc, "document")
+    # The whole ±40° sweep (no clearance check: the sweep is not stopped), where the tines
+    # cross the rims and slot 3's shift shows; then as scanned, stopped at clearance_min.
+    analytic = scan_document(doc, "analytic", clearance=False)
+    document = scan_document(doc, "document", clearance=False)
     assert document.code == analytic.code == "1151221601220001010000010"
     assert [(r.z_in, r.z_out) for r in document.runs] == \
         [(r.z_in, r.z_out) for r in analytic.runs]
@@ -86,6 +88,15 @@ def test_document_engine_agrees_with_the_closed_forms(doc):
     # The protruding wafer (slot 8, 5 mm out) is met 5 mm earlier by the robot's own sensor.
     assert document.pockets[7].front == pytest.approx(document.pockets[0].front - 5.0, abs=1e-7)
     assert document.pockets[2].shift == pytest.approx(3.0, abs=1e-3)
+    stopped = scan_document(doc, "analytic")
+    measured = scan_document(doc, "document")
+    assert measured.code == stopped.code == "1111221601220001010000010"
+    for mine, exact in zip(measured.pockets, stopped.pockets):
+        # The same body stops both sweeps: the angles agree to the search's 0.001 mm of
+        # clearance, and each sweep's blocked angles are those reached.
+        assert mine.reached == pytest.approx(exact.reached, abs=1e-3)
+        if exact.sweep is not None:
+            assert mine.sweep == pytest.approx(mine.reached, abs=1e-7)
 
 
 def test_a_scanner_without_a_robot_jabs_and_sweeps_by_its_placement():
@@ -102,7 +113,7 @@ def test_a_scanner_without_a_robot_jabs_and_sweeps_by_its_placement():
         assert beam.emitter == pytest.approx(emitter, abs=1e-9)
         assert beam.direction == pytest.approx(expected.direction, abs=1e-12)
         arm.restore()
-        document = scan_document(made, "document")
+        document = scan_document(made, "document", clearance=False)  # the whole ±40°
         analytic = scan_layout(layout)
         assert document.code == analytic.code
         for mine, exact in zip(document.pockets, analytic.pockets):
@@ -125,8 +136,15 @@ waferscan = partial(commands.waferscan, timeout=600)  # slow scans through the c
 
 
 def test_cli_slow_scan_of_the_paper_with_jab_and_sweep_reports_front_and_sweep(tmp_path):
+    # A sweep after a 5 mm jab from the paper's pose, whose tines are already in the wafers:
+    # it cannot turn (SPEC §13 amended), bad input naming parameters.txt's sweep line.
     params = tmp_path / "parameters.txt"
     params.write_text("jab = 5\nsweep = 40\n")
+    done = waferscan("scan", PAPER, "--mode", "slow", "--params", params)
+    assert done.returncode == 2 and done.stdout == "" and "Traceback" not in done.stderr
+    assert done.stderr == (f"waferscan: error: {params}:2: sweep: cannot turn at slot 1: before "
+                           f"it turns, tine_left is inside LP1_W01 by 0.350 mm\n")
+    params.write_text("jab = 5\n")
     out = tmp_path / "results.txt"
     done = waferscan("scan", PAPER, "--mode", "slow", "--params", params, "--json",
                      "--out", out)
@@ -135,17 +153,17 @@ def test_cli_slow_scan_of_the_paper_with_jab_and_sweep_reports_front_and_sweep(t
     loaded = [s for s in data["slots"] if s["state"] == 1]
     # The paper's start pose already has the beam 16.6 mm into the wafers: front 0, and said.
     assert all(s["front"] == 0.0 for s in loaded)
-    assert all(s["sweep"][0] == pytest.approx(-s["sweep"][1], abs=1e-9) for s in loaded)
+    assert all(s["sweep"] is None and s["sweep_reached"] is None for s in loaded)
     assert data["slots"][2]["front"] is None and data["slots"][2]["sweep"] is None
     assert "cannot tell a protruding wafer" in done.stderr
     assert data["durations"]["slow"] > data["durations"]["fast"] > 0
-    # SPEC §15 (changed deliberately with the clearance check): a ±40° sweep at the paper's
-    # pockets turns the tines into the wafers, so the MCS is answered status = error, with one
-    # collision line per motion that comes too close, and no table (the robot must not run it).
+    # SPEC §15: the 5 mm jab runs the tines 0.350 mm into the wafers, so the MCS is answered
+    # status = error, with one collision line per motion that comes too close, and no table
+    # (the robot must not run it).
     text = out.read_text()
     assert "\nstatus = error\n" in text and "\nclearance_min = 0.5\n" in text
     collisions = [line for line in text.splitlines() if line.startswith("collision = ")]
-    assert any("slot 1 sweep at wrist angle" in line for line in collisions)
+    assert any("slot 1 jab advanced" in line for line in collisions)
     assert all("tine_" in line for line in collisions)
     assert "slot\t" not in text
     assert data["clearance"]["contacts"] == len(collisions)
@@ -154,11 +172,14 @@ def test_cli_slow_scan_of_the_paper_with_jab_and_sweep_reports_front_and_sweep(t
 def test_cli_example_prints_pockets_and_durations():
     done = waferscan("scan", EXAMPLE)
     assert done.returncode == 0, done.stderr
-    assert "code 1151221601220001010000010" in done.stdout
+    assert "code 1111221601220001010000010" in done.stdout
     row = [line.split() for line in done.stdout.splitlines() if line.split()[:1] == ["8"]][-1]
     assert row[2:4] == ["5.000", "10.000"]  # front, and a seated wafer's
+    assert row[-3:] == ["-0.339", "..", "+0.339"]  # the angles turned
     assert "simulated duration: fast 2.70 s" in done.stdout
-    assert "slot 3: the sweep" in done.stderr and "3.000 mm to the right" in done.stderr
+    # SPEC §13 amended: the sweeps stop short of the wafers, still blocked: no position judged.
+    assert "slot 3: the sweep stopped where the fork comes within clearance_min" in done.stderr
+    assert "to the right" not in done.stderr and "contact" not in done.stderr
 
 
 def test_bad_slow_settings_name_file_line_and_key(tmp_path):
@@ -207,7 +228,7 @@ def test_the_documents_reader_refuses_a_jab_into_the_seated_wafers(doc):
         read_layout(doc)
     assert f"{settings.Label}.Jab: 40 mm would drive the fork's tines" in str(caught.value)
     assert "after 33.114 mm" in str(caught.value)
-    settings.Jab = 26.6
+    settings.Jab = 20.0
     settings.SweepRadius = 2e6
     with pytest.raises(InputError, match=rf"{settings.Label}\.SweepRadius: must be at most "):
         read_layout(doc)

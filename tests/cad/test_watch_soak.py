@@ -75,12 +75,11 @@ def test_mixed_commands_stay_within_5_mb_over_4000(tmp_path, engine, layout):
     assert process.returncode == 0, err[-3000:]
     answered = re.findall(r"^seq (\d+) (\w+): (\w+)", out, re.M)
     assert [int(seq) for seq, _, _ in answered] == list(range(1, done + 1)), out[-2000:]
-    # Every scan is carried out; a CAL is carried out or answered with its reason. SPEC §15
-    # (changed deliberately with the clearance check): slow_jab.toml's slow scan turns its tines
-    # into wafers, so its SCS is answered status = error, the robot must not run it.
-    refused = {"SCS"} if layout == "slow_jab.toml" else set()
-    assert all(status == ("error" if command in refused else "ok")
-               for _, command, status in answered if command != "CAL"), out[-2000:]
+    # Every scan is carried out and answered ok (slow_jab.toml's sweep stops short of the
+    # wafers, SPEC §13 amended, so its slow scan passes the clearance check); a CAL is carried
+    # out or answered with its reason.
+    assert all(status == "ok" for _, command, status in answered if command != "CAL"), \
+        out[-2000:]
     slope = slope_of(samples, done)
     print(f"{engine} {layout}: {slope:+.3f} kB a command, {slope * SOAK / 1024:+.2f} MB over "
           f"{SOAK:,} (RSS {samples[0][1] / 1024:.1f} -> {samples[-1][1] / 1024:.1f} MB over "

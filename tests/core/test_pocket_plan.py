@@ -15,7 +15,7 @@ LAYOUT = read_scenario(EXAMPLE)
 RESULT = scan_layout(LAYOUT)
 # slow_jab.toml from above, the carrier's centre (0, 400) at the origin, v into the carrier:
 START_V = 240.0 - 400.0          # the start pose's beam
-DEEPEST_V = START_V + 26.6       # after the jab
+DEEPEST_V = START_V + 20.0       # after the jab
 WRIST = (0.0, DEEPEST_V - 260.0)  # sweep_radius behind the beam's midpoint (x = 0)
 
 

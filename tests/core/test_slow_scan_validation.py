@@ -44,11 +44,11 @@ def refused(text, key, *fragments):
 
 
 def test_the_example_without_its_robot_is_accepted():
-    assert parse_scenario(NO_ROBOT, "s.toml").scan.jab == 26.6
+    assert parse_scenario(NO_ROBOT, "s.toml").scan.jab == 20.0
 
 
 def test_a_vertical_beam_gives_the_jab_no_heading():
-    refused(scenario(direction="[0.0, 0.0, 1.0]"), "jab", "26.6 mm", "[0, 0, 1]", "vertical")
+    refused(scenario(direction="[0.0, 0.0, 1.0]"), "jab", "20 mm", "[0, 0, 1]", "vertical")
 
 
 def test_a_vertical_beam_gives_the_sweep_no_heading_when_there_is_no_jab():
@@ -70,9 +70,9 @@ def test_a_beam_along_the_lift_axis_into_the_carrier_has_a_heading_along_the_ope
     text = scenario(direction="[0.0, 0.5, 1.0]").replace(
         "length = 160.0", "length = 160.0\nlift_axis = [0.0, 0.5, 1.0]")
     refused(text, "jab", "runs along carrier LP1's opening", "front [0, -1]")
-    refused(text.replace("jab = 26.6", "jab = 0.0"), "sweep", "runs along")
+    refused(text.replace("jab = 20.0", "jab = 0.0"), "sweep", "runs along")
     # Without a jab or a sweep the same layout is not this check's business.
-    parse_scenario(text.replace("jab = 26.6", "jab = 0.0").replace("sweep = 40.0", "sweep = 0.0"),
+    parse_scenario(text.replace("jab = 20.0", "jab = 0.0").replace("sweep = 40.0", "sweep = 0.0"),
                    "s.toml")
 
 
@@ -152,7 +152,7 @@ def test_the_command_line_says_it_in_one_line_with_exit_status_2(tmp_path):
     assert "Traceback" not in done.stderr and done.stdout == ""
     assert done.stderr.count("\n") == 1
     assert done.stderr.startswith(f"waferscan: error: vertical.toml:{line_of(text, 'jab')}: "
-                                  f"[scan] jab: 26.6 mm needs a beam that crosses the pocket")
+                                  f"[scan] jab: 20 mm needs a beam that crosses the pocket")
     # A fast scenario with the jab, made slow on the command line: refused the same way (the
     # jab is checked whatever the mode), not met by the slow scan's arithmetic.
     (tmp_path / "fast.toml").write_text(text.replace('mode = "slow"', 'mode = "fast"'))

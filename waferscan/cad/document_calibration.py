@@ -10,6 +10,7 @@ from ..core.files.mcs import apply_parameters
 from ..core.scan.calibration import calibrate
 from ..core.scan.engine_choice import check_engine
 from ..core.scan.layout_scan import scan_layout
+from .layout_files import setting_error
 from .reader import DocumentScene, read_layout
 
 
@@ -34,19 +35,7 @@ def calibrate_document(doc, parameters=None, engine="analytic", progress=None, r
         if exc.source != "z_step":
             raise
         # The core names the key only: the file and line that set z_step are named here.
-        if parameters is not None and "z_step" in parameters.values:
-            raise InputError(parameters.source, parameters.lines.get("z_step"),
-                             f"z_step: {exc.message}") from None
-        line = None
-        if str(source).lower().endswith(".toml"):
-            from ..core.files.scenario import key_line
-            from ..core.files.text_files import read_text
-
-            try:
-                line = key_line(read_text(source), "scan", "z_step")
-            except InputError:
-                pass
-        raise InputError(source, line, f"z_step: {exc.message}") from None
+        raise setting_error(exc.message, source, parameters, "scan", "z_step") from None
 
 
 def calibrate_input(path, parameters=None, engine="analytic"):

@@ -58,24 +58,29 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
         else:
             from .brep import brep_stepper  # Part's B-rep tools load only for this engine
             stepper = brep_stepper(scene, mover)
-    result = scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure)
-    return with_clearance(scene, result) if clearance else result
+    body = limits = None
+    if clearance and layout.scan.mode == "slow" and layout.scan.sweep > 0.0:
+        # SPEC §13 amended: each pocket's sweep turns only as far as the fork stays clear.
+        from ..core.scan.clearance import turn_limits
+
+        body = clearance_body(scene, layout)
+        if body is not None:
+            limits = turn_limits(body, layout.mapping.clearance_min)
+    result = scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure,
+                         turn_limits=limits)
+    return with_clearance(scene, result, body) if clearance else result
 
 
-def with_clearance(scene, result):
-    """The result with SPEC §15's clearance check of its motions: by the document's robot
-    (its URDF's collision geometry, in its taught start pose) or, without one, the scanner's
-    heads; each contact a warning. Unchanged when coal (which ships with pin) is missing."""
-    from dataclasses import replace
-
+def clearance_body(scene, layout):
+    """The body whose clearance SPEC §15 checks: the document's robot (its URDF's collision
+    geometry, in its taught start pose) or, without one, the scanner's heads. None when coal
+    (which ships with pin) is missing."""
     from ..addon import pinocchio_available
 
     if not pinocchio_available():
-        return result
-    from ..core.mapping import UNSCANNED
-    from ..robot.clearance import RobotBody, ScannerBody, clearance_for
+        return None
+    from ..robot.clearance import RobotBody, ScannerBody
 
-    layout = result.layout
     if scene.robots:
         urdf, base, start, label = per_scene(scene, "robot for clearance",
                                              lambda: _robot_read(scene))
@@ -89,9 +94,92 @@ def with_clearance(scene, result):
                              f"{str(exc).strip()[:200]}") from None
     else:
         body = ScannerBody(layout)
-    pockets = [s.slot for s in result.slot_map.slots if s.state != UNSCANNED]
+    body.add_carrier(per_scene(scene, ("carrier solids", layout.carrier),
+                               lambda: _carrier_solids(scene, layout)))
+    return body
+
+
+def with_clearance(scene, result, body=None):
+    """The result with SPEC §15's clearance check of its motions (by ``body``, default
+    ``clearance_body``) against the wafers and the scanned carrier's solids, each contact a
+    warning; a sweep's motion is the one it made (its pockets' reached angles). Unchanged when
+    coal is missing."""
+    from dataclasses import replace
+
+    from ..core.mapping import UNSCANNED
+    from ..robot.clearance import clearance_for
+
+    layout = result.layout
+    body = body or clearance_body(scene, layout)
+    if body is None:
+        return result
+    probes = {p.slot: p for p in result.pockets}
+    pockets = [probes.get(s.slot, s.slot) for s in result.slot_map.slots
+               if s.state != UNSCANNED]
     report = clearance_for(layout, body, pockets)
     return replace(result, clearance=report, warnings=result.warnings + report.warnings())
+
+
+def _carrier_solids(scene, layout):
+    """The scanned carrier's solids in the world as the robot layer takes them, [(vertices,
+    triangles, name)] (``carrier_shapes``): a solid of 6 faces and 8 corners goes as its
+    corners, triangles None (the robot layer makes a box of a box's, else their hull); any other
+    is tessellated to 0.1 mm."""
+    solids = []
+    for name, solid in carrier_shapes(scene, layout):
+        if len(solid.Faces) == 6 and len(solid.Vertexes) == 8:
+            solids.append(([(v.X, v.Y, v.Z) for v in solid.Vertexes], None, name))
+        else:
+            points, triangles = solid.tessellate(0.1)
+            solids.append(([(v.x, v.y, v.z) for v in points], triangles, name))
+    return tuple(solids)
+
+
+def carrier_shapes(scene, layout):
+    """[(name, Part solid in the world)] of the scanned carrier: its own shape's solids, or
+    those of the untagged objects it holds (not its wafers), as the 3D view shows them. A built
+    carrier's are named as ``features.carrier_solids`` makes them (``LP1 wall_left``, ``LP1
+    slot 3 ledge_right``), others by their object's label (``FOUP Base``)."""
+    import Part
+
+    from . import roles
+    from .features import CarrierBody
+    from .reader import carrier_from
+
+    instance = next((i for i in scene.carriers if carrier_from(i).name == layout.carrier),
+                    None)
+    found = []  # (label, the object's shape in the world, whether a built CarrierBody)
+
+    def walk(sub, obj, depth):
+        children = obj.getSubObjects()
+        if not children:  # a solid of its own (a link's target's, as the 3D view shows)
+            if depth == 0 or roles.role_of(obj) is None:
+                holder = roles.role_holder(obj) if depth == 0 else obj
+                found.append((obj.Label, Part.getShape(instance.root, sub),
+                              isinstance(getattr(holder, "Proxy", None), CarrierBody)))
+            return
+        for child_sub in children:
+            child = obj.getSubObject(child_sub, retType=1)
+            if child is not None and depth < 32 and getattr(child, "Visibility", True):
+                walk(sub + child_sub, child, depth + 1)
+
+    if instance is not None:
+        walk(instance.sub, instance.obj, 0)
+    shapes = []
+    for label, shape, built in found:
+        shape_solids = shape.Solids
+        names = [f"solid {k}" for k in range(1, len(shape_solids) + 1)]
+        if built and len(shape_solids) == 5 + 2 * layout.scanned_carrier.slot_count:
+            names = ["wall_left", "wall_right", "wall_back", "floor", "roof"] + [
+                f"slot {k} ledge_{side}" for k in range(1, len(shape_solids) // 2 - 1)
+                for side in ("left", "right")]  # features.carrier_solids' order
+        elif len(shape_solids) == 1:
+            names = [""]
+        prefix = layout.carrier if built or label == layout.carrier \
+            else f"{layout.carrier} {label}"
+        shapes += [(f"{prefix} {name}".strip(), solid)
+                   for solid, name in zip(shape_solids, names)]
+    return shapes
 
 
 def _robot_read(scene):

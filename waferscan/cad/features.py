@@ -145,7 +145,10 @@ def carrier_solids(slot_count, pitch, wafer_diameter, support_span):
     wall = 4.0
     inner = r + 6.0  # wall to wafer rim clearance: 6 mm
     front, back = -r - 5.0, r + 10.0
-    bottom, top = -pitch - wall, (slot_count - 1) * pitch + pitch
+    # The opening leaves the fork room above the top slot and below the first: a stroke from
+    # 1.4 pitches under slot 1's seat to 1.6 over the top slot's (the paper's 280 to 550, its
+    # tines 4 mm tall) stays 5 mm or more from the floor and the roof (SPEC §15).
+    bottom, top = -2.0 * pitch - wall, (slot_count + 1.5) * pitch
     height = top - bottom
     boxes = [
         Part.makeBox(wall, back - front, height, App.Vector(-inner - wall, front, bottom)),

@@ -110,6 +110,21 @@ def check_whole_numbers(path):
                                      f"{value[:40]!r}: not a whole number")
 
 
+def setting_error(message, source, parameters, table, key):
+    """InputError for a problem with the scan setting ``key`` found while scanning: named by
+    the parameters.txt line that set it, else by its line in a scenario ``source`` (.toml),
+    else by the file (a layout .FCStd keeps it as a property)."""
+    if parameters is not None and key in parameters.values:
+        return InputError(parameters.source, parameters.lines.get(key), f"{key}: {message}")
+    line = None
+    if str(source).lower().endswith(".toml"):
+        try:
+            line = key_line(read_text(source), table, key)
+        except InputError:
+            pass
+    return InputError(source, line, f"{key}: {message}")
+
+
 def _document_name(path):
     name = "".join(c if c.isalnum() else "_" for c in path.stem) or "Layout"
     return name if name[0].isalpha() else "L" + name

@@ -29,8 +29,10 @@ from ..core.files.mcs_link import (
     read_regular_text,
     stop_on_signals,
 )
+from ..core.scan.clearance import SweepBlocked
 from ..core.scan.engines import ENGINES
 from .document_scan import scan_document
+from .layout_files import setting_error
 from .reader import DocumentScene, read_layout
 
 # parameters.txt is a few hundred bytes; more is not a parameters file.
@@ -132,6 +134,9 @@ def document_scanner(doc, folder, engine="analytic"):
         try:
             result = scan_document(doc, engine, progress=lambda done, total: should_stop(),
                                    parameters=parameters, read=(scene, layout))
+        except SweepBlocked as exc:  # named by parameters.txt's line, else the layout
+            raise setting_error(exc.message, doc.FileName or doc.Label, read, "scan",
+                                "sweep") from None
         finally:
             cache.scanning = False
         return Scanned(result, note) if note else result

@@ -127,7 +127,8 @@ class JabbedMover:
 
 
 def document_measure(scene, arm, layout):
-    """``measure(z, reach, amplitude)`` -> (front, sweep) for ``slow_scan.probe_pocket``,
+    """``measure(z, reach, amplitude)`` -> (front, sweep) for ``slow_scan.probe_pocket``
+    (``amplitude``: ±A or the (low, high) angles the sweep reached),
     through the document (see the module's docstring)."""
     scanner = scene.scanner()
     ends = scanner_ends(scene)
@@ -159,9 +160,10 @@ def document_measure(scene, arm, layout):
                         front = 0.0 if k == 0 else bisect(
                             lambda a: blocked(near, z, a, 0.0), steps[k - 1], advance)
                         break
-            if amplitude > 0.0 and near:
-                count = max(2, math.ceil(2.0 * amplitude / SWEEP_SUBSTEP))
-                grid = [-amplitude + 2.0 * amplitude * k / count for k in range(count + 1)]
+            low, high = slow_scan.turn_bounds(amplitude)  # the angles the sweep reached
+            if high > low and near:
+                count = max(2, math.ceil((high - low) / SWEEP_SUBSTEP))
+                grid = [low + (high - low) * k / count for k in range(count + 1)]
                 hits = [k for k, a in enumerate(grid) if blocked(near, z, reach, a)]
                 if hits:
                     i, j = hits[0], hits[-1]

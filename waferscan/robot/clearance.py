@@ -1,6 +1,7 @@
 """The distances of SPEC §15's clearance check, with coal (the collision library that ships with
 pin): the robot's collision geometry from its URDF (Pinocchio's COLLISION geometry model, placed
-by the joints) or, without a robot, the scanner's heads; the wafers as coal solids.
+by the joints) or, without a robot, the scanner's heads; the wafers (and, when given, the
+carrier's solids) as coal solids.
 
 Lengths here are millimetres: the URDF's shapes and placements are scaled once, when the body is
 made. The motions and the search along them are ``core/scan/clearance.py``'s; this module only
@@ -22,6 +23,13 @@ answers its questions (``nearest``, ``path``, ``swept``), so ``waferscan/core`` 
   from its axis, taken at the jab's ends plus twice its length, joint values taken to move
   monotonically between the search's samples), and the core's Lipschitz refinement does the
   rest.
+- The carrier's solids (``carrier=``: closed triangle meshes in the world, plain arrays
+  ``(vertices, triangles, name)``, which the CAD layer tessellates from the document) are
+  obstacles too (``carrier_obstacle``): a coal ``Box`` where the mesh is a box (a built carrier's
+  walls and ledges: exact), a ``Convex`` where it is convex, else a ``BVHModelOBBRSS`` with an
+  inside test (a BVH is only a surface: a part wholly inside it would read as apart). A swept
+  translation stays exact against any of them: the distance from a moving part's swept shape to
+  a fixed solid is the least along the motion, whatever the solid's shape.
 """
 
 from __future__ import annotations
@@ -119,11 +127,202 @@ def _swept_along_z(geometry, travel):
     return coal.Capsule(geometry.radius, travel)  # Sphere
 
 
-class Obstacles:
-    """The layout's wafers as coal solids: (name, slot, geometry, transform, centre, radius)."""
+CONVEX_TEST_TRIANGLES = 4000  # a larger mesh is taken for non-convex (the test is O(V x T))
 
-    def __init__(self, layout):
-        carrier = layout.scanned_carrier
+
+def _box_of(vertices, triangles, normals):
+    """(half sides, rotation, centre) when the closed mesh is a box, else None: its faces' normals
+    take three orthogonal directions, its vertices two values along each, and its volume is
+    the box's."""
+    axes = [normals[0]]
+    for n in normals[1:]:
+        if all(abs(n @ a) < 1e-9 for a in axes):
+            axes.append(n)
+            if len(axes) == 2:
+                break
+    if len(axes) < 2:
+        return None
+    rotation = np.column_stack([axes[0], axes[1], np.cross(axes[0], axes[1])])
+    if np.any(np.max(np.abs(normals @ rotation), axis=1) < 1.0 - 1e-9):
+        return None  # a face not square to the three axes
+    local = vertices @ rotation
+    low, high = local.min(axis=0), local.max(axis=0)
+    sides = high - low
+    tolerance = 1e-6 * max(1.0, float(sides.max()))
+    if np.any(np.minimum(np.abs(local - low), np.abs(local - high)) > tolerance):
+        return None
+    if abs(abs(_volume(vertices, triangles)) - float(np.prod(sides))) > 1e-6 * float(
+            np.prod(sides)) + tolerance ** 3:
+        return None  # not closed, or not the whole box
+    return 0.5 * sides, rotation, rotation @ (0.5 * (low + high))
+
+
+def _volume(vertices, triangles):
+    a, b, c = (vertices[triangles[:, k]] for k in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) / 6.0
+
+
+def _is_convex(vertices, triangles, normals):
+    """Whether every vertex lies on or behind every face's plane (normals outward)."""
+    if len(triangles) > CONVEX_TEST_TRIANGLES:
+        return False
+    offsets = np.einsum("ij,ij->i", normals, vertices[triangles[:, 0]])
+    size = float(np.ptp(vertices, axis=0).max())
+    return bool(np.all(vertices @ normals.T - offsets <= 1e-6 * max(1.0, size)))
+
+
+class _Inside:
+    """Whether a point lies inside a closed triangle mesh (the parity of a ray's crossings)."""
+
+    RAY = np.array([0.5773502691896258, 0.5773502691896257, 0.5773502691896259]) + \
+        np.array([1e-3, -2e-3, 0.0])  # skew: along no edge or face of a built solid
+
+    def __init__(self, vertices, triangles):
+        self.low, self.high = vertices.min(axis=0), vertices.max(axis=0)
+        self.a = vertices[triangles[:, 0]]
+        self.e1 = vertices[triangles[:, 1]] - self.a
+        self.e2 = vertices[triangles[:, 2]] - self.a
+
+    def __call__(self, point):
+        point = np.asarray(point, dtype=float)
+        if np.any(point < self.low) or np.any(point > self.high):
+            return False
+        p = np.cross(self.RAY, self.e2)  # Moller-Trumbore, every triangle at once
+        det = np.einsum("ij,ij->i", self.e1, p)
+        ok = np.abs(det) > 1e-12
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        t = point - self.a
+        u = np.einsum("ij,ij->i", t, p) * inv
+        q = np.cross(t, self.e1)
+        v = (q @ self.RAY) * inv
+        w = np.einsum("ij,ij->i", self.e2, q) * inv
+        hits = ok & (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (w > 0.0)
+        return bool(np.count_nonzero(hits) % 2)
+
+
+def _corners_box(points):
+    """(half sides, rotation, centre) when the 8 points are the corners of a box, else None."""
+    if len(points) != 8:
+        return None
+    edges = points[1:] - points[0]
+    lengths = np.linalg.norm(edges, axis=1)
+    order = np.argsort(lengths)[:3]  # a corner's three nearest corners lie along its edges
+    axes = edges[order] / lengths[order, None]
+    if lengths[order[0]] <= 0.0 or abs(axes[0] @ axes[1]) > 1e-9 or \
+            abs(axes[0] @ axes[2]) > 1e-9 or abs(axes[1] @ axes[2]) > 1e-9:
+        return None
+    rotation = np.column_stack([axes[0], axes[1], np.cross(axes[0], axes[1])])
+    local = (points - points[0]) @ rotation
+    low, high = local.min(axis=0), local.max(axis=0)
+    tolerance = 1e-6 * max(1.0, float(lengths.max()))
+    corners = np.abs(local[:, None, :] - np.stack([low, high])[None, :, :]).min(axis=1)
+    if np.any(corners > tolerance) or len({tuple(np.round((c - low) / (high - low)))
+                                          for c in local}) != 8:
+        return None
+    return 0.5 * (high - low), rotation, points[0] + rotation @ (0.5 * (low + high))
+
+
+def _hull(points):
+    hull_points = coal.StdVec_Vec3s()
+    for point in points:
+        hull_points.append(point)
+    return coal.Convex.convexHull(hull_points, False, "")
+
+
+def carrier_obstacle(vertices, triangles):
+    """(coal geometry, rotation, translation, inside) of one solid given as a closed triangle
+    mesh in the world (mm): a Box where it is one (exact), a Convex where it is convex, else a
+    BVHModelOBBRSS and ``inside(point)``, its inside test (None for the first two: coal's
+    distance to a box or a convex is signed already). ``triangles`` None: the solid is the
+    convex hull of ``vertices`` (a Box when they are a box's eight corners)."""
+    vertices = np.ascontiguousarray(vertices, dtype=float).reshape(-1, 3)
+    if triangles is None:
+        box = _corners_box(vertices)
+        if box is not None:
+            half, rotation, centre = box
+            return coal.Box(*(2.0 * half)), rotation, centre, None
+        return _hull(vertices), np.eye(3), np.zeros(3), None
+    triangles = np.ascontiguousarray(triangles, dtype=np.int64).reshape(-1, 3)
+    cross = np.cross(vertices[triangles[:, 1]] - vertices[triangles[:, 0]],
+                     vertices[triangles[:, 2]] - vertices[triangles[:, 0]])
+    lengths = np.linalg.norm(cross, axis=1)
+    keep = lengths > 1e-12 * max(1.0, float(lengths.max(initial=0.0)))
+    triangles, cross, lengths = triangles[keep], cross[keep], lengths[keep]
+    if not len(triangles):
+        raise ValueError("a carrier solid without faces")
+    if _volume(vertices, triangles) < 0.0:  # faces inwards: turn them out
+        triangles, cross = triangles[:, ::-1], -cross
+    normals = cross / lengths[:, None]
+    box = _box_of(vertices, triangles, normals)
+    if box is not None:
+        half, rotation, centre = box
+        return coal.Box(*(2.0 * half)), rotation, centre, None
+    used = vertices[np.unique(triangles)]
+    if _is_convex(used, triangles, normals):
+        try:
+            return _hull(used), np.eye(3), np.zeros(3), None
+        except (RuntimeError, ValueError):
+            pass  # qhull refused it (e.g. a vertex with too many neighbours): a mesh instead
+    model = coal.BVHModelOBBRSS()
+    model.beginModel(len(triangles), len(vertices))
+    model.addVertices(vertices)
+    model.addTriangles(triangles)
+    model.endModel()
+    return model, np.eye(3), np.zeros(3), _Inside(vertices, triangles)
+
+
+def _wafer_box(wafer, rotation, centre):
+    """The world's axis-aligned box about a wafer (a flat one exactly; a bowed one its bound)."""
+    if wafer.bow:
+        return None
+    n = np.abs(rotation[:, 2])
+    reach = wafer.radius * np.sqrt(np.clip(1.0 - n * n, 0.0, 1.0)) + 0.5 * wafer.thickness * n
+    return centre - reach, centre + reach
+
+
+_CARRIER_MADE = []  # [(the carrier solids given, their key, their obstacle items)]
+
+
+def _solids_key(solids):
+    """What the carrier's solids are, to compare (each scan of a document reads them again:
+    the same solids make the same coal objects once)."""
+    return tuple((str(name), np.asarray(vertices, dtype=float).tobytes(),
+                  None if triangles is None else np.asarray(triangles, dtype=np.int64).tobytes())
+                 for vertices, triangles, name in solids)
+
+
+def _carrier_items(solids):
+    """Obstacle items of the carrier's solids, made once for the same solids (the same object,
+    or the same names, vertices and triangles): (name, None, geometry, transform, centre,
+    radius, low, high, inside)."""
+    for given, _, items in _CARRIER_MADE:
+        if given is solids:
+            return items
+    key = _solids_key(solids)
+    for given, known, items in _CARRIER_MADE:
+        if known == key:
+            return items
+    items = []
+    for vertices, triangles, name in solids:
+        geometry, rotation, translation, inside = carrier_obstacle(vertices, triangles)
+        points = np.asarray(vertices, dtype=float).reshape(-1, 3)
+        low, high = points.min(axis=0), points.max(axis=0)
+        centre = 0.5 * (low + high)
+        radius = float(np.linalg.norm(points - centre, axis=1).max())
+        items.append((str(name), None, geometry, coal.Transform3s(rotation, translation),
+                      centre, radius, low, high, inside))
+    _CARRIER_MADE[:] = [(solids, key, items)] + _CARRIER_MADE[:3]
+    return items
+
+
+class Obstacles:
+    """The layout's wafers as coal solids, and the carrier's solids when given (``carrier``:
+    [(vertices (n, 3) mm, triangles (m, 3) indices, name)], closed meshes in the world; triangles
+    None for a convex solid given by its corners, ``carrier_obstacle``):
+    items (name, slot, geometry, transform, centre, radius, low, high, inside)."""
+
+    def __init__(self, layout, carrier=()):
+        scanned = layout.scanned_carrier
         self.items = []
         for wafer in layout.wafers:
             rotation = _frame_z(wafer.normal)
@@ -135,10 +334,29 @@ class Obstacles:
                 geometry = coal.Cylinder(wafer.radius, wafer.thickness)
                 origin = centre = np.asarray(wafer.mid_center, dtype=float)
                 bound = math.hypot(wafer.radius, 0.5 * wafer.thickness)
-            self.items.append((wafer.name, _slot_of(carrier, wafer), geometry,
-                               coal.Transform3s(rotation, origin), centre, bound))
+            low, high = _wafer_box(wafer, rotation, centre) or (centre - bound, centre + bound)
+            self.items.append((wafer.name, _slot_of(scanned, wafer), geometry,
+                               coal.Transform3s(rotation, origin), centre, bound, low, high,
+                               None))
+        self.carrier, self.carrier_count = (), 0
+        self._bounds()
+        self.add_carrier(carrier)
+
+    def add_carrier(self, solids):
+        """Take the carrier's ``solids`` (as ``carrier`` above) for obstacles too, in place of
+        those taken before; nothing new when they are the same object."""
+        if solids is self.carrier or (not solids and not self.carrier):
+            return
+        wafers = len(self.items) - self.carrier_count
+        self.items = self.items[:wafers] + (_carrier_items(solids) if solids else [])
+        self.carrier, self.carrier_count = solids, len(self.items) - wafers
+        self._bounds()
+
+    def _bounds(self):
         self.centres = np.array([item[4] for item in self.items]).reshape(-1, 3)
         self.radii = np.array([item[5] for item in self.items])
+        self.lows = np.array([item[6] for item in self.items]).reshape(-1, 3)
+        self.highs = np.array([item[7] for item in self.items]).reshape(-1, 3)
 
 
 def _slot_of(carrier, wafer):
@@ -159,20 +377,30 @@ class _Body:
 
     lift_axis = (0.0, 0.0, 1.0)
 
-    def __init__(self, layout):
+    def __init__(self, layout, carrier=()):
         self.layout = layout
-        self.obstacles = Obstacles(layout)
+        self.obstacles = Obstacles(layout, carrier)
         self.request = coal.DistanceRequest()
         self.result = coal.DistanceResult()
         self.lift_axis = np.asarray(layout.lift_axis, dtype=float)
 
+    def add_carrier(self, solids):
+        """The carrier's solids (``Obstacles``) as obstacles too, for a body made without them;
+        returns the body."""
+        self.obstacles.add_carrier(solids)
+        return self
+
     # parts_at(motion, s) -> [(name, geometry, rotation, translation mm, moves_with_lift)]
 
     def _distance(self, geometry, transform, index):
-        _, _, other, other_transform, _, _ = self.obstacles.items[index]
+        item = self.obstacles.items[index]
         self.result.clear()
-        return coal.distance(geometry, transform, other, other_transform, self.request,
-                             self.result)
+        d = coal.distance(geometry, transform, item[2], item[3], self.request, self.result)
+        inside = item[8]
+        if inside is not None and d > 0.0 and inside(transform.getTranslation()):
+            # A mesh is a surface: a part clear of it but within it overlaps the solid.
+            return -d
+        return d
 
     def _nearest(self, parts):
         """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
@@ -181,10 +409,17 @@ class _Body:
         best = (math.inf, "", "", None, None)
         if not self.obstacles.items or not parts:
             return best
+        obstacles = self.obstacles
         centres = np.array([part[3] for part in parts])
         radii = np.array([_bound_radius(part[1]) for part in parts])
-        gaps = (np.linalg.norm(centres[:, None, :] - self.obstacles.centres[None, :, :], axis=2)
-                - radii[:, None] - self.obstacles.radii[None, :])
+        gaps = (np.linalg.norm(centres[:, None, :] - obstacles.centres[None, :, :], axis=2)
+                - radii[:, None] - obstacles.radii[None, :])
+        if obstacles.carrier_count:
+            # A wall or a floor is long and thin: its box bounds it far better than a sphere.
+            outside = np.maximum(np.maximum(obstacles.lows[None, :, :] - centres[:, None, :],
+                                            centres[:, None, :] - obstacles.highs[None, :, :]),
+                                 0.0)
+            gaps = np.maximum(gaps, np.linalg.norm(outside, axis=2) - radii[:, None])
         count = gaps.shape[1]
         transforms = {}
         for flat in np.argsort(gaps, axis=None):
@@ -246,10 +481,11 @@ class RobotBody(_Body):
     """The robot's collision geometry (its URDF's <collision> boxes, cylinders and spheres) as
     its joints move through a scan of the layout. ``urdf`` (None: the bundled robot), ``base``
     ((x, y, z) mm, yaw deg)
-    and ``start`` (the taught start pose's joint values) default to the layout's [robot]."""
+    and ``start`` (the taught start pose's joint values) default to the layout's [robot];
+    ``carrier``: the carrier's solids as meshes (``Obstacles``), obstacles beside the wafers."""
 
-    def __init__(self, layout, urdf=None, base=None, start=None):
-        super().__init__(layout)
+    def __init__(self, layout, urdf=None, base=None, start=None, carrier=()):
+        super().__init__(layout, carrier)
         spec = layout.robot
         if urdf is None and spec is not None:
             urdf = spec.urdf
@@ -409,8 +645,8 @@ class ScannerBody(_Body):
     """Without a robot (SPEC §15), the scanner's solid stands in: its emitter and receiver heads,
     spheres of HEAD_RADIUS (the beam itself is meant to cross the wafers)."""
 
-    def __init__(self, layout):
-        super().__init__(layout)
+    def __init__(self, layout, carrier=()):
+        super().__init__(layout, carrier)
         self.sphere = coal.Sphere(HEAD_RADIUS)
 
     def ends(self, motion, s):
@@ -437,14 +673,27 @@ class ScannerBody(_Body):
         return math.radians(abs(s1 - s0)) * reach
 
 
-def body_for(layout):
+def body_for(layout, carrier=()):
     """The body that makes the layout's scan: its robot's, else the scanner's heads."""
-    return RobotBody(layout) if layout.robot is not None else ScannerBody(layout)
+    return RobotBody(layout, carrier=carrier) if layout.robot is not None \
+        else ScannerBody(layout, carrier)
 
 
-def clearance_for(layout, body=None, pockets=None):
+def carrier_note(layout, body):
+    """The report's ``carrier``: how many of the scanned carrier's solids the body checked."""
+    count = body.obstacles.carrier_count
+    if not count:
+        return core.CARRIER_NOT_CHECKED
+    others = [c.name for c in layout.carriers if c.name != layout.carrier]
+    return (f"checked: {count} solid{'s' if count != 1 else ''} of {layout.carrier}"
+            + (f" (not those of {', '.join(others)})" if others else ""))
+
+
+def clearance_for(layout, body=None, pockets=None, carrier=()):
     """SPEC §15's ClearanceReport of a scan of the layout (``core.check_clearance``), by its
-    robot when it has one, else by the scanner's heads."""
-    body = body or body_for(layout)
+    robot when it has one, else by the scanner's heads; ``carrier``: the scanned carrier's
+    solids as meshes (``Obstacles``) for a body made here (a given body has its own)."""
+    body = body or body_for(layout, carrier)
     return core.check_clearance(layout, body, pockets,
-                                body_name="robot" if isinstance(body, RobotBody) else "scanner")
+                                body_name="robot" if isinstance(body, RobotBody) else "scanner",
+                                carrier=carrier_note(layout, body))

@@ -284,7 +284,7 @@ RESULT_COLUMNS = ("slot", "slot_z", "wafer", "in", "out", "diff", "state")
 # thresholds or latching in motion), so that the paper's results.txt stays as it was.
 READING_COLUMNS = ("thickness", "bottom")
 # SPEC §13: added when a slow scan jabbed or swept its pockets (mm from the start pose; degrees).
-POCKET_COLUMNS = ("front", "sweep_first", "sweep_last")
+POCKET_COLUMNS = ("front", "sweep_first", "sweep_last", "sweep_low", "sweep_high")
 
 
 def _cell(text):
@@ -374,8 +374,10 @@ def refusal(result):
 
 
 def _pocket_cells(probe):
-    """results.txt's front, sweep_first, sweep_last of a pocket (empty where none)."""
+    """results.txt's front, sweep_first, sweep_last of a pocket and the wrist angles its sweep
+    reached, sweep_low and sweep_high (SPEC §13; empty where none)."""
     if probe is None:
-        return ("", "", "")
+        return ("", "", "", "", "")
     sweep = probe.sweep or (None, None)
-    return (_mm(probe.front), *("" if a is None else f"{a:.4f}" for a in sweep))
+    reached = getattr(probe, "reached", None) or (None, None)
+    return (_mm(probe.front), *("" if a is None else f"{a:.4f}" for a in (*sweep, *reached)))

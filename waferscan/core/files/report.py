@@ -37,6 +37,10 @@ def result_dict(result):
         probe = pockets.get(slot["slot"])
         slot["front"] = None if probe is None else probe.front
         slot["sweep"] = None if probe is None or probe.sweep is None else list(probe.sweep)
+        # The wrist angles the sweep turned to: short of ±sweep where the fork would have come
+        # within clearance_min (SPEC §13 amended).
+        slot["sweep_reached"] = (None if probe is None or probe.reached is None
+                                 else list(probe.reached))
         # The wrist-angle ranges over which a tine was inside a wafer (a real fork strikes it).
         slot["sweep_strike"] = ([list(span) for span in probe.strike]
                                 if probe is not None and probe.strike else None)
@@ -49,16 +53,17 @@ def result_dict(result):
 def format_pockets(result):
     """A slow scan's jab and sweep per pocket as a text table (SPEC §13)."""
     lines = [f"{'slot':>4}  {'jab Z':>8}  {'front':>7}  {'seated':>7}  {'sweep first':>11}  "
-             f"{'last':>8}  {'shift':>7}",
+             f"{'last':>8}  {'shift':>7}  {'turned':>17}",
              "(mm from the start pose; degrees, counter-clockwise seen from above; shift: mm "
-             "to the right)"]
+             "to the right; turned: the wrist angles the sweep reached)"]
     for p in result.pockets:
         sweep = p.sweep or (None, None)
         cells = [_mm(p.front) or "-", _mm(p.expected_front) or "-",
                  *(f"{a:+.3f}" if a is not None else "-" for a in sweep),
                  "-" if p.shift is None else f"{p.shift:+.3f}"]
+        turned = "-" if p.reached is None else f"{p.reached[0]:+.3f} .. {p.reached[1]:+.3f}"
         lines.append(f"{p.slot:>4}  {p.z:8.3f}  {cells[0]:>7}  {cells[1]:>7}  {cells[2]:>11}  "
-                     f"{cells[3]:>8}  {cells[4]:>7}")
+                     f"{cells[3]:>8}  {cells[4]:>7}  {turned:>17}")
     return "\n".join(lines)
 
 

@@ -30,7 +30,9 @@ from __future__ import annotations
 
 import heapq
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from ..errors import InputError
 
 DEFAULT_CLEARANCE_MIN = 1.0  # mm (SPEC §15)
 TOLERANCE = 1e-3  # mm: how far the least distance reported may lie above the true least …
@@ -83,12 +85,14 @@ class Closest:
 @dataclass(frozen=True)
 class ClearanceReport:
     """Every motion's least distance, against ``clearance_min``. ``body``: what moved ("robot"
-    or "scanner"); ``carrier``: how the carrier was checked."""
+    or "scanner"); ``carrier``: how the carrier was checked; ``measured_by``: the body object
+    that measured it (the GUI asks it the distance at every frame; not compared)."""
 
     clearance_min: float
     closest: tuple
     body: str
     carrier: str = CARRIER_NOT_CHECKED
+    measured_by: object = field(default=None, compare=False, repr=False)
 
     @property
     def least(self):
@@ -147,7 +151,9 @@ def scan_motions(layout, pockets=None):
     """The motions a scan of the layout makes, in order. A fast scan: its stroke(s). A slow scan:
     at each pocket (``pockets``: the scanned slots; default every slot of the scanned carrier)
     its jab (advance 0 .. jab at the pocket's height), its Z steps over the pocket's window
-    (the fork advanced by the jab) and its sweep (-sweep .. +sweep at the jab's depth)."""
+    (the fork advanced by the jab) and its sweep (-sweep .. +sweep at the jab's depth). A
+    pocket may be given as a slot number or as its ``PocketProbe``, whose ``reached`` angles
+    (where the sweep stopped short of clearance_min, SPEC §13) are then the sweep's."""
     scan = layout.scan
     if scan.mode != "slow":
         up = Motion(STROKE, "fast stroke up", None, scan.start_z, scan.final_z)
@@ -159,7 +165,9 @@ def scan_motions(layout, pockets=None):
     plan = slot_plan(carrier, layout.mapping)
     slots = range(1, plan.slot_count + 1) if pockets is None else pockets
     motions = []
-    for slot in slots:
+    for pocket in slots:
+        slot = getattr(pocket, "slot", pocket)
+        reached = getattr(pocket, "reached", None) or (-scan.sweep, scan.sweep)
         seat = plan.seat_z(slot)
         z = seat + 0.5 * plan.wafer_thickness
         if scan.jab > 0.0:
@@ -169,7 +177,7 @@ def scan_motions(layout, pockets=None):
         if high > low:
             motions.append(Motion(STEPS, f"slot {slot} steps", slot, low, high, None, scan.jab))
         if scan.sweep > 0.0:
-            motions.append(Motion(SWEEP, f"slot {slot} sweep", slot, -scan.sweep, scan.sweep, z,
+            motions.append(Motion(SWEEP, f"slot {slot} sweep", slot, reached[0], reached[1], z,
                                   scan.jab))
     return motions
 
@@ -222,6 +230,97 @@ def least_along(body, motion, clearance_min, tolerance=TOLERANCE, per_unit=SAMPL
                    motion.slot if slot is None else slot, exact)
 
 
+# --- how far a sweep may turn (SPEC §13 amended) ------------------------------------------------
+
+MAX_ADVANCES = 5_000  # conservative-advancement steps per side; beyond, the sweep stops there
+
+
+class SweepBlocked(InputError):
+    """A requested sweep that cannot turn at all at a pocket (bad input, SPEC §13 amended): the
+    fork is already closer than ``clearance_min`` to an obstacle before it turns. ``slot``: the
+    pocket; ``meets``: per side, the wrist angle (deg) at which a part would touch the obstacle
+    turning that way, or None when it would not within the sweep; ``closest``: the nearest
+    (distance, part, obstacle, slot) before the turn. Named by the key only ("sweep: …"): the
+    callers that know the file and line the sweep came from name them
+    (``cad.layout_files.setting_error``)."""
+
+    def __init__(self, slot, clearance_min, closest, meets):
+        self.slot = slot
+        self.clearance_min = clearance_min
+        self.closest = closest
+        self.meets = meets
+        distance, part, obstacle, _ = closest
+        if distance < 0.0:  # already in it: the jab or the steps are contacts too
+            near = f"{part} is inside {obstacle} by {-distance:.3f} mm"
+        else:
+            near = (f"{part} is {distance:.3f} mm from {obstacle}, under clearance_min "
+                    f"{clearance_min:g} mm")
+        touching = [f"{a:+.3f} deg" for a in meets if a]
+        where = (f"; turning, the fork would touch at {' or '.join(touching)}" if touching
+                 else "")
+        super().__init__("sweep", None,
+                         f"cannot turn at slot {slot}: before it turns, {near}{where}")
+
+
+def reach_along(body, motion, clearance_min, tolerance=TOLERANCE, budget=MAX_ADVANCES):
+    """How far the body can move along ``motion`` (from ``start`` towards ``end``) without
+    coming closer than ``clearance_min`` to any obstacle: (the parameter reached, the body's
+    ``nearest`` there), or (None, nearest at the start) when the start itself is closer.
+
+    Conservative advancement: at s, with least distance d, no point moves further than
+    ``path(s, s')`` before s', so every position in [s, s'] keeps at least d - path(s, s'); the
+    step is the longest that keeps that at ``clearance_min`` + tolerance/2. Every position up to
+    the one reached is therefore at least ``clearance_min`` away (nothing is sampled), and the
+    motion stops within ``tolerance`` of the distance limit, at the end of the motion, or after
+    ``budget`` steps (a tangential approach: the sweep then stops early, never late)."""
+    s, end = motion.start, motion.end
+    near = body.nearest(motion, s)
+    if near[0] < clearance_min:
+        return None, near
+    wall = clearance_min + 0.5 * tolerance
+    sign = 1.0 if end >= s else -1.0
+    for _ in range(budget):
+        margin = near[0] - wall
+        if s == end or margin < 0.5 * tolerance:
+            break
+        step = abs(end - s)
+        for _ in range(60):
+            travel = body.path(motion, s, s + sign * step)
+            if travel <= margin:
+                break
+            step *= min(0.5, margin / travel) if travel > 0.0 else 0.5
+        else:
+            break
+        s = end if step >= abs(end - s) else s + sign * step
+        near = body.nearest(motion, s)
+    return s, near
+
+
+def sweep_reach(body, slot, z, advance, amplitude, clearance_min, tolerance=TOLERANCE):
+    """(low, high): the wrist angles (deg) a sweep at a pocket reaches turning each way from
+    0 towards -amplitude and +amplitude, each stopped where the fork would come closer than
+    ``clearance_min`` (``reach_along``). SweepBlocked when it cannot turn at all."""
+    sides = [Motion(SWEEP, f"slot {slot} sweep", slot, 0.0, end, z, advance)
+             for end in (-amplitude, amplitude)]
+    reached = [reach_along(body, m, clearance_min, tolerance) for m in sides]
+    if all(r is None for r, _ in reached):
+        # Where a part would touch (distance 0) turning each way: 0 when it already does,
+        # None when it would not within the sweep.
+        meets = tuple(reach_along(body, m, 0.0, tolerance)[0] for m in sides)
+        meets = tuple(0.0 if a is None else None if abs(a) >= amplitude else a for a in meets)
+        raise SweepBlocked(slot, clearance_min, reached[0][1], meets)
+    return tuple(0.0 if r is None else r for r, _ in reached)
+
+
+def turn_limits(body, clearance_min, tolerance=TOLERANCE):
+    """``turn_limits(slot, z, depth, amplitude)`` for ``scan_layout``: each pocket's sweep
+    stopped by ``body``'s clearance (``sweep_reach``)."""
+    def limits(slot, z, depth, amplitude):
+        return sweep_reach(body, slot, z, depth, amplitude, clearance_min, tolerance)
+
+    return limits
+
+
 def check_clearance(layout, body, pockets=None, clearance_min=None, body_name="robot",
                     carrier=CARRIER_NOT_CHECKED):
     """The ClearanceReport of a scan of ``layout`` made by ``body``: the least distance along
@@ -229,4 +328,4 @@ def check_clearance(layout, body, pockets=None, clearance_min=None, body_name="r
     if clearance_min is None:
         clearance_min = layout.mapping.clearance_min
     closest = tuple(least_along(body, m, clearance_min) for m in scan_motions(layout, pockets))
-    return ClearanceReport(clearance_min, closest, body_name, carrier)
+    return ClearanceReport(clearance_min, closest, body_name, carrier, body)

@@ -34,13 +34,15 @@ from .scan_result import (
 
 
 def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=None,
-                ray_ranges=None):
+                ray_ranges=None, turn_limits=None):
     """Scan the layout with the named engine and map the scanned carrier's slots.
 
     ``stepper(layout, progress)``, when given, computes the hits in place of the core engine of
     that name (the CAD layer's ``document`` and ``brep`` engines come in this way); ``measure``
     likewise measures a slow scan's jab and sweep (``slow_scan.probe_pocket``). ``ray_ranges``:
-    a beam spot's centre-ray ranges worked out beforehand by a sweep (core/sensor/spot.py)."""
+    a beam spot's centre-ray ranges worked out beforehand by a sweep (core/sensor/spot.py).
+    ``turn_limits(slot, z, depth, amplitude)`` -> (low, high): how far a slow scan's sweep may
+    turn at a pocket (the robot layer's clearance, SPEC §13 amended; default: all of it)."""
     if layout.spot is not None or layout.scan.latch != "step":
         from .sensing import ideal_sensor, sensed_scan
 
@@ -75,7 +77,7 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     if slow_scan.probes_pockets(scan):
         pockets = slow_scan.probe_pockets(
             layout, plan, [s for s in range(1, plan.slot_count + 1) if s not in unscanned],
-            measure)
+            measure, turn_limits)
         jabbed, swept_off, probe_warnings = slow_scan.judge(layout, plan, pockets)
         if scan.jab > 0.0:
             # SPEC §13: the robot's own sensor measures protrusion as well as the load port's

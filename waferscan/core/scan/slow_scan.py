@@ -234,10 +234,19 @@ def _level_candidates(emitter, beam, wafer, wx, wy, tol):
     return angles
 
 
+def turn_bounds(amplitude):
+    """(low, high) wrist angles, degrees: a sweep's amplitude A is (-A, +A); a pair is kept (the
+    angles a sweep reached, SPEC §13 amended)."""
+    if isinstance(amplitude, (tuple, list)):
+        return float(amplitude[0]), float(amplitude[1])
+    return -float(amplitude), float(amplitude)
+
+
 def sweep_pair(layout, z, advance, amplitude, wafers=None, tol=TOUCH_TOLERANCE, exact=True):
-    """(first, last): the lowest and highest wrist turn in [-amplitude, +amplitude] degrees at
-    which the beam (scan position z, fork advanced ``advance``) is blocked; None if never.
-    ``exact=False`` forces the bracket-and-bisect path for every wafer (for tests)."""
+    """(first, last): the lowest and highest wrist turn in [-amplitude, +amplitude] degrees (or
+    in [low, high] when ``amplitude`` is that pair) at which the beam (scan position z, fork
+    advanced ``advance``) is blocked; None if never. ``exact=False`` forces the
+    bracket-and-bisect path for every wafer (for tests)."""
     wafers = wafers_near(layout, z) if wafers is None else wafers
     if not wafers:
         return None
@@ -263,8 +272,8 @@ def _level_span(emitter, beam, wafer, wx, wy, amplitude, tol):
     angles = _level_candidates(emitter, beam, wafer, wx, wy, tol)
     if angles is None:
         return None
-    points = sorted({-amplitude, amplitude} | {a for a in map(_wrap, angles)
-                                               if -amplitude < a < amplitude})
+    low, high = turn_bounds(amplitude)
+    points = sorted({low, high} | {a for a in map(_wrap, angles) if low < a < high})
     blocked = []
     for i, a in enumerate(points):
         if _blocked(emitter, beam, wafer, wx, wy, a, tol):
@@ -294,8 +303,9 @@ def _bisected_span(emitter, beam, wafer, wx, wy, amplitude, tol):
 
     from ..geometry.beam import beam_hits_wafers
 
-    count = max(3, int(math.ceil(2.0 * amplitude / SWEEP_GRID_DEG)) + 1)
-    grid = np.linspace(-amplitude, amplitude, count)
+    low, high = turn_bounds(amplitude)
+    count = max(3, int(math.ceil((high - low) / SWEEP_GRID_DEG)) + 1)
+    grid = np.linspace(low, high, count)
     a = np.radians(-grid)
     c, s = np.cos(a), np.sin(a)
     dx, dy = wafer.center[0] - wx, wafer.center[1] - wy
@@ -356,6 +366,7 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
         dx, dy = _turn_xy(beam.direction[0], beam.direction[1], 0.0, 0.0, turn)
         return tine_inside((x, y, pz), (dx, dy, beam.direction[2]), wafer, tol)
 
+    low, high = turn_bounds(amplitude)
     level = exact and wafer.normal[0] == 0.0 and wafer.normal[1] == 0.0 and not wafer.bow
     if level:
         ux, uy = px - wx, py - wy
@@ -363,8 +374,7 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
         r = wafer.radius + tol
         k = 0.5 * (ux * ux + uy * uy + cx * cx + cy * cy - r * r)
         crossings = _solve_cos_sin(ux * cx + uy * cy, ux * cy - uy * cx, k)
-        points = sorted({-amplitude, amplitude} | {a for a in map(_wrap, crossings)
-                                                   if -amplitude < a < amplitude})
+        points = sorted({low, high} | {a for a in map(_wrap, crossings) if low < a < high})
         spans = []
         for a, b in zip(points, points[1:]):
             if inside(0.5 * (a + b)):
@@ -372,8 +382,8 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
         return merged_ranges(spans)
     import numpy as np
 
-    count = max(3, int(math.ceil(2.0 * amplitude / SWEEP_GRID_DEG)) + 1)
-    grid = np.linspace(-amplitude, amplitude, count)
+    count = max(3, int(math.ceil((high - low) / SWEEP_GRID_DEG)) + 1)
+    grid = np.linspace(low, high, count)
     states = (_tine_grid(px, py, pz, beam.direction, wafer, wx, wy, grid, tol)
               if not wafer.bow else np.array([inside(float(a)) for a in grid], dtype=bool))
     # Grid indices where the state changes, each bisected with the exact test.
@@ -382,10 +392,10 @@ def _tine_spans(emitter, beam, end, wafer, wx, wy, amplitude, tol, exact=True):
     for i, j in zip(edges, edges[1:]):
         if not states[j]:
             continue  # a clear stretch
-        low = -amplitude if i < 0 else bisect_boundary(inside, float(grid[i]), float(grid[i + 1]))
-        high = (amplitude if j == count - 1
+        first = low if i < 0 else bisect_boundary(inside, float(grid[i]), float(grid[i + 1]))
+        last = (high if j == count - 1
                 else bisect_boundary(inside, float(grid[j + 1]), float(grid[j])))
-        spans.append((low, high))
+        spans.append((first, last))
     return spans
 
 
@@ -474,7 +484,10 @@ class PocketProbe:
     ``expected_sweep``: the same for a wafer seated in this pocket; ``shift``: the sideways shift
     (mm, along the carrier's left-to-right) the sweep's centre shows, or None; ``strike``: the
     wrist-angle ranges ((low, high) degrees) over which a tine was inside a wafer
-    (``sweep_strikes``), empty when none or no sweep."""
+    (``sweep_strikes``), empty when none or no sweep; ``reached``: (low, high), the wrist angles
+    the sweep turned to (SPEC §13 amended: each side stops where the fork would come closer
+    than clearance_min; the whole ±sweep when nothing stopped it or no robot was checked),
+    None without a sweep."""
 
     slot: int
     z: float
@@ -485,6 +498,7 @@ class PocketProbe:
     expected_sweep: tuple | None = None
     shift: float | None = None
     strike: tuple = ()
+    reached: tuple | None = None
 
 
 def seated_wafer(carrier, slot):
@@ -499,17 +513,23 @@ def pocket_height(plan, slot):
     return plan.seat_z(slot) + 0.5 * plan.wafer_thickness
 
 
-def probe_pocket(layout, slot, z, measure=None):
-    """The jab and the sweep at one pocket. ``measure(z, reach, amplitude)`` -> (front, sweep)
+def probe_pocket(layout, slot, z, measure=None, turn_limits=None):
+    """The jab and the sweep at one pocket. ``measure(z, reach, (low, high))`` -> (front, sweep)
     measures them another way (the CAD layer's ``document`` engine, through the robot);
-    by default the closed forms above."""
+    by default the closed forms above. ``turn_limits(slot, z, depth, amplitude)`` -> (low,
+    high): how far the sweep may turn each way (the robot layer's clearance, SPEC §13
+    amended); by default the whole ±sweep."""
     scan = layout.scan
     depth = scan.jab
+    reached = None
+    if scan.sweep > 0.0:
+        reached = ((-scan.sweep, scan.sweep) if turn_limits is None
+                   else tuple(turn_limits(slot, z, depth, scan.sweep)))
     if measure is None:
         front = jab_front(layout, z, scan.jab) if scan.jab > 0.0 else None
-        sweep = sweep_pair(layout, z, depth, scan.sweep) if scan.sweep > 0.0 else None
+        sweep = sweep_pair(layout, z, depth, reached) if scan.sweep > 0.0 else None
     else:
-        front, sweep = measure(z, scan.jab, scan.sweep)
+        front, sweep = measure(z, scan.jab, reached if reached is not None else 0.0)
     carrier = layout.scanned_carrier
     nominal = [seated_wafer(carrier, slot)]
     # The seated wafer's front edge as the jab would meet it: negative when the start pose's
@@ -518,18 +538,21 @@ def probe_pocket(layout, slot, z, measure=None):
     span = translation_range(emitter, Beam(emitter, layout.beam.direction, layout.beam.length),
                              heading(layout), nominal[0], 0.0)
     expected_front = None if span is None else span[0]
-    expected_sweep = (sweep_pair(layout, z, depth, scan.sweep, nominal)
+    expected_sweep = (sweep_pair(layout, z, depth, reached, nominal)
                       if scan.sweep > 0.0 else None)
     shift = None
-    if sweep is not None and expected_sweep is not None:
+    # A sweep blocked at an end of its turn has no edge there: no shift is read from it.
+    at_end = sweep is not None and any(abs(a - b) <= SWEEP_TOLERANCE_DEG
+                                       for a, b in zip(sweep, turn_bounds(reached)))
+    if sweep is not None and expected_sweep is not None and not at_end:
         shift = _sideways_shift(layout, z, depth, carrier, slot,
                                 0.5 * (sweep[0] + sweep[1])
                                 - 0.5 * (expected_sweep[0] + expected_sweep[1]))
     # Where the sweep turns a tine into a wafer (honest results, SPEC §3): the layout's own
     # geometry, whichever way the sweep was measured (the document engine agrees with it).
-    strike = sweep_strikes(layout, z, depth, scan.sweep) if scan.sweep > 0.0 else ()
+    strike = sweep_strikes(layout, z, depth, reached) if scan.sweep > 0.0 else ()
     return PocketProbe(slot, z, front, depth, sweep, expected_front, expected_sweep, shift,
-                       strike)
+                       strike, reached)
 
 
 def _sideways_shift(layout, z, depth, carrier, slot, turned):
@@ -553,9 +576,9 @@ def stepping_layout(layout):
     return replace(layout, beam=Beam(emitter, layout.beam.direction, layout.beam.length))
 
 
-def probe_pockets(layout, plan, slots, measure=None):
+def probe_pockets(layout, plan, slots, measure=None, turn_limits=None):
     """The jab and sweep of each listed slot, in order (a tuple of PocketProbe)."""
-    return tuple(probe_pocket(layout, slot, pocket_height(plan, slot), measure)
+    return tuple(probe_pocket(layout, slot, pocket_height(plan, slot), measure, turn_limits)
                  for slot in slots)
 
 
@@ -564,7 +587,7 @@ def judge(layout, plan, probes):
     why}, warnings), each reason and warning a sentence (SPEC §3 "Honest results", §13)."""
     scan = layout.scan
     protruding, off, warnings = [], {}, []
-    blind = []
+    blind, stopped = [], {}
     for p in probes:
         if scan.jab > 0.0 and p.expected_front is not None:
             if p.front is not None and p.expected_front - p.front > plan.protrusion_limit \
@@ -574,8 +597,14 @@ def judge(layout, plan, probes):
                     and p.expected_front <= plan.protrusion_limit + LIMIT_SLACK:
                 blind.append(p.slot)
         if p.sweep is not None and scan.sweep > 0.0:
-            ends = [a for a in p.sweep if abs(abs(a) - scan.sweep) <= SWEEP_TOLERANCE_DEG]
-            if ends:
+            low, high = p.reached or (-scan.sweep, scan.sweep)
+            ends = [a for a, end in zip(p.sweep, (low, high))
+                    if abs(a - end) <= SWEEP_TOLERANCE_DEG]
+            short = [a for a in ends if abs(a) < scan.sweep - SWEEP_TOLERANCE_DEG]
+            if short:
+                # SPEC §13 amended: a side stopped by clearance_min with the beam still blocked.
+                stopped.setdefault(f"{low:+.3f} .. {high:+.3f} deg", []).append(p.slot)
+            elif ends:
                 warnings.append(f"slot {p.slot}: the sweep is still blocked at its end "
                                 f"({', '.join(f'{a:+g}' for a in ends)} deg): its edges are not "
                                 f"known, so no position is judged from it; widen the sweep")
@@ -587,6 +616,13 @@ def judge(layout, plan, probes):
                     f"is {0.5 * (p.expected_sweep[0] + p.expected_sweep[1]):+.3f} deg: the wafer "
                     f"sits {abs(p.shift):.3f} mm to the {side}, beyond the position tolerance "
                     f"{plan.position_tolerance:g} mm: position error (5)")
+    for words, slots in stopped.items():
+        warnings.append(
+            f"slot{'s' if len(slots) > 1 else ''} {', '.join(map(str, slots))}: the sweep "
+            f"stopped where the fork comes within clearance_min "
+            f"({layout.mapping.clearance_min:g} mm) of a wafer ({words}), the beam still "
+            f"blocked there: the wafer's edges lie beyond where the fork may turn, so no "
+            f"position is judged from the sweep")
     warnings += strike_warnings(probes)
     if blind:
         warnings.append(f"the jab starts within the protrusion limit of a seated wafer's front "
@@ -682,7 +718,8 @@ def slow_fast_notice(scan):
 def slow_duration(scan, plan, probes=()):
     """Seconds of a slow scan: pocket by pocket (bottom up), the lift to the pocket's window,
     each step of it a move from rest to rest and a read at rest (sensor_response), then at
-    seat + t/2 the jab out to its deepest point and back, and the sweep 0 -> -A -> +A -> 0."""
+    seat + t/2 the jab out to its deepest point and back, and the sweep 0 -> -A -> +A -> 0 (or
+    to the angles it reached)."""
     a_lift = lift_acceleration(scan)
     v = scan.scan_speed
     by_slot = {p.slot: p for p in probes}
@@ -710,6 +747,9 @@ def slow_duration(scan, plan, probes=()):
         z = probe.z
         total += 2.0 * move_time(probe.depth, scan.arm_speed, scan.arm_acceleration)
         if scan.sweep > 0.0:
+            # 0 -> low -> high -> 0: the angles it reached (SPEC §13 amended), else ±sweep.
+            low, high = probe.reached or (-scan.sweep, scan.sweep)
             w, aw = scan.wrist_speed, scan.wrist_acceleration
-            total += 2.0 * move_time(scan.sweep, w, aw) + move_time(2.0 * scan.sweep, w, aw)
+            total += (move_time(low, w, aw) + move_time(high - low, w, aw)
+                      + move_time(high, w, aw))
     return total
