@@ -267,15 +267,21 @@ def cmd_layout(args):
 
 
 def cmd_crosscheck(args):
+    from .cad.clearance_brep import clearance_dict, format_clearance
     from .cad.crosscheck import crosscheck
     from .cad.layout_files import opened_layout
 
     with opened_layout(args.input) as doc:
         check = crosscheck(doc)
     if args.json:
-        print(json.dumps(report.crosscheck_dict(check), indent=2))
+        data = report.crosscheck_dict(check)
+        data["clearance"] = clearance_dict(check.clearance)  # SPEC §15, issue 29
+        print(json.dumps(data, indent=2))
     else:
-        print(report.format_crosscheck(check))
+        # The clearance lines (SPEC §15) go before the last line, the verdict on everything
+        # (check.ok covers the clearance too), which stays last as scripts read it (tail -1).
+        *lines, verdict = report.format_crosscheck(check).split("\n")
+        print("\n".join([*lines, format_clearance(check.clearance), "", verdict]))
     _warn(check.result)
     return 0 if check.ok else 1
 
@@ -451,7 +457,8 @@ def build_parser():
     layout.add_argument("-o", "--output", metavar="LAYOUT.FCStd", required=True)
     layout.set_defaults(run=cmd_layout)
 
-    check = sub.add_parser("crosscheck", help="confirm every IN/OUT with FreeCAD's B-rep geometry")
+    check = sub.add_parser("crosscheck", help="confirm every IN/OUT and every motion's "
+                           "clearance with FreeCAD's B-rep geometry")
     check.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
     check.add_argument("--json", action="store_true", help="print one JSON object")
     check.set_defaults(run=cmd_crosscheck)

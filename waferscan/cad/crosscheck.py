@@ -8,8 +8,10 @@ import math
 from dataclasses import dataclass
 
 from ..core.scan.engines import geometric_edges, wafer_edges
+from ..core.scan.slow_scan import stepping_layout
 from .bowed_solid import bowed_blocked, bowed_wafer_solid
 from .brep import TOUCH, brep_blocked
+from .clearance_brep import crosscheck_clearance
 from .document_scan import scan_document
 from .reader import DocumentScene
 
@@ -63,6 +65,9 @@ class CrossCheck:
     result: object  # the analytic ScanResult checked
     runs: tuple
     wafers: tuple
+    # SPEC §15: each motion's least distance confirmed (clearance_brep.ClearanceCrossCheck);
+    # None when not asked for.
+    clearance: object = None
 
     @property
     def largest_deviation(self):
@@ -76,7 +81,8 @@ class CrossCheck:
 
     @property
     def ok(self):
-        return all(r.ok for r in self.runs) and all(w.ok for w in self.wafers)
+        return (all(r.ok for r in self.runs) and all(w.ok for w in self.wafers)
+                and (self.clearance is None or self.clearance.ok))
 
 
 def _bisect(blocked_at, clear, hit, iterations=60):
@@ -93,16 +99,18 @@ def _bisect(blocked_at, clear, hit, iterations=60):
     return hit
 
 
-def crosscheck(doc, result=None):
+def crosscheck(doc, result=None, clearance=True):
     """Confirm a stepped analytic scan of the document with OpenCASCADE: every run blocked at its
-    first and last step and clear one step outside them, and every wafer's closed-form edges
+    first and last step and clear one step outside them, every wafer's closed-form edges
     found again by bisection on the B-rep distance, within the deviation OpenCASCADE's touching
-    tolerance explains at that edge (``EdgeCheck.allowed``).
+    tolerance explains at that edge (``EdgeCheck.allowed``), and (``clearance``) every motion's
+    least distance of SPEC §15 measured again between Part solids (clearance_brep.py).
 
     The runs are checked at the positions the beam was blocked at, before latching: a latched
     IN/OUT trails them by scan_speed x sensor_response, where the beam need not be blocked."""
     scene = DocumentScene.of(doc)
     result = result or scan_document(doc, "analytic")
+    motions = crosscheck_clearance(scene, result) if clearance else None
     if result.layout.spot is not None and not result.layout.spot.ideal:
         # SPEC §10: OpenCASCADE judges geometry, the line beam's edges; a spot's runs are
         # threshold crossings of b(z), which the tests check against closed forms and rays.
@@ -111,7 +119,9 @@ def crosscheck(doc, result=None):
         from ..core.scan.layout_scan import scan_layout
 
         result = scan_layout(replace(result.layout, spot=None, amplifier=None))
-    layout = result.layout
+    # A slow scan's Z steps are made with the fork in, advanced by its jab (SPEC §13): the beam
+    # the runs were read with.
+    layout = stepping_layout(result.layout)
     scan = layout.scan
     step = scan.z_step if scan.z_step > 0 else 0.01
     solids = [i.shape() for i in scene.wafers]
@@ -149,4 +159,4 @@ def crosscheck(doc, result=None):
         brep_lo = _bisect(lambda z: blocked(z, i), lo - reach, inside)
         brep_hi = _bisect(lambda z: blocked(z, i), hi + reach, inside)
         wafers.append(EdgeCheck(wafer.name, edges, (brep_lo, brep_hi), shift))
-    return CrossCheck(result, tuple(runs), tuple(wafers))
+    return CrossCheck(result, tuple(runs), tuple(wafers), motions)
