@@ -125,6 +125,7 @@ def dialogs():
     result["crosscheck_ok"] = check.ok
     result["crosscheck_deviation"] = check.largest_deviation
     result["crosscheck_box"] = session.dialogs[0].text()
+    result["crosscheck_details"] = session.dialogs[0].detailedText()
     later(fault_during_animation, 100)
 
 

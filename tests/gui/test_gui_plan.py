@@ -1,22 +1,23 @@
 """Each probed pocket of a slow scan seen from above, in the slot-code dialog (SPEC §13, issue
 17: "a plan view of each pocket showing where the beam met the wafer"). The probe reads back
 what the canvas drew and the colour of the rendered pixels at plan points worked out by hand
-for resources/examples/slow_jab.toml (carrier centre at the origin, v into the carrier)."""
+for resources/examples/slow_jab.toml at the paper's depth, scanned by the core's closed forms
+alone (the whole ±40°, the tines' strikes drawn: scenarios.SLOW_JAB_DEEP_TEXT; carrier centre at
+the origin, v into the carrier)."""
 
 import json
 import math
 from pathlib import Path
 
 import pytest
+from scenarios import SLOW_JAB_DEEP_TEXT, slow_jab_deep
 
-from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan.layout_scan import scan_layout
 
 REPO = Path(__file__).resolve().parents[2]
-EXAMPLE = REPO / "resources" / "examples" / "slow_jab.toml"
 PROBE = Path(__file__).resolve().with_name("plan_probe.py")
 ARTIFACTS = REPO / "test-artifacts"
-RESULT = scan_layout(read_scenario(EXAMPLE))
+RESULT = scan_layout(slow_jab_deep())
 DEEPEST_V = 240.0 + 26.6 - 400.0
 WRIST = (0.0, DEEPEST_V - 260.0)
 WHITE = [255, 255, 255]
@@ -61,9 +62,11 @@ def _points():
 
 
 @pytest.fixture(scope="module")
-def gui(run_gui_probe):
+def gui(run_gui_probe, tmp_path_factory):
     (ARTIFACTS / "gui-pocket-plan.png").unlink(missing_ok=True)
-    return run_gui_probe(PROBE, WAFERSCAN_GUI_SCENARIO=str(EXAMPLE),
+    example = tmp_path_factory.mktemp("plan") / "slow_jab_deep.toml"
+    example.write_text(SLOW_JAB_DEEP_TEXT)
+    return run_gui_probe(PROBE, WAFERSCAN_GUI_SCENARIO=str(example),
                          WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS),
                          WAFERSCAN_GUI_POINTS=json.dumps(_points()))
 
@@ -87,7 +90,7 @@ def test_it_draws_the_wafer_the_seated_outline_the_beams_and_where_they_met(gui)
                  ("sweep first", f"{probe.sweep[0]:+.3f}°"),
                  ("sweep last", f"{probe.sweep[1]:+.3f}°"),
                  ("contact", "front 5.000 mm"), ("contact", f"{probe.sweep[0]:+.3f}°"),
-                 ("contact", f"{probe.sweep[1]:+.3f}°"), ("wrist", "below")]:
+                 ("contact", f"{probe.sweep[1]:+.3f}°"), ("wrist", "inside")]:
         assert item in drawn
     title = dict((k, v) for k, v in drawn if k == "title")["title"]
     assert title == ("slot 8 at Z 364.290 mm: front 5.000 mm (seated 10.000); sweep -33.845° to "

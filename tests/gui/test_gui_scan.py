@@ -121,6 +121,11 @@ def test_the_cross_check_command_confirms_the_scan(gui, headless):
     assert gui["crosscheck_deviation"] == pytest.approx(check.largest_deviation, abs=1e-9)
     assert gui["crosscheck_deviation"] <= 1e-6
     assert gui["crosscheck_box"].startswith("Confirmed")
+    # SPEC §15: the stroke's least clearance confirmed by the B-rep too, in the details.
+    assert gui["crosscheck_box"].endswith("and the clearance of 1 motion.")
+    details = gui["crosscheck_details"]
+    assert "clearance (SPEC §15)" in details and "fast stroke up" in details
+    assert "0.650457" in details and "OK: |B-rep - coal| <= 0.001 mm" in details
 
 
 def test_a_link_deleted_mid_animation_ends_it_cleanly(gui):

@@ -33,7 +33,9 @@ class ScanAnimation(QtCore.QObject):
     ``moved(frame, z)`` is emitted at every frame; ``finished`` when the animation ends, at the
     last frame (``completed`` is then True), by ``stop()``, or by a fault (``fault`` says which).
     ``ended`` says whether it has; ``lit`` names the wafers the beam meets now. How the view
-    looks meanwhile (and again after) is its ``appearance``'s.
+    looks meanwhile (and again after) is its ``appearance``'s. ``clearance`` (a
+    ``LiveClearance``, None when the scan's clearance was not checked) holds the least distance
+    at the frame shown; ``fork`` draws the fork red while it is a contact.
     """
 
     moved = QtCore.Signal(int, float)
@@ -59,6 +61,12 @@ class ScanAnimation(QtCore.QObject):
         # its preview (drawn while no scan plays) off the view meanwhile.
         previews.hide(doc)
         self.appearance = ScanAppearance(doc, scene, result)
+        # SPEC §15: the least clearance at each frame (the body that measured the scan's
+        # report, made once), and the fork drawn red while closer than clearance_min.
+        from .clearance_view import ForkColour, LiveClearance
+
+        self.clearance = LiveClearance.of(result, doc, scene)
+        self.fork = ForkColour(doc) if self.clearance is not None else None
         # What the animation stands on: a deletion (kept alive for undo in the GUI, so nothing
         # raises) is seen by name at every frame and ends the animation.
         self.tracked = {o.Name: o.Label for o in self.mover.moved_objects()}
@@ -159,12 +167,14 @@ class ScanAnimation(QtCore.QObject):
         self.views = []
         if self.closed:  # only the scene-graph nodes held are let go
             undo = [self.appearance.release] + \
-                ([self.pose.release] if self.pose is not None else [])
+                ([self.pose.release] if self.pose is not None else []) + \
+                ([self.fork.release] if self.fork is not None else [])
         else:
             # Each put back on its own: one that fails (its object deleted) leaves the others.
             undo = [lambda: self.appearance.light(()),
                     self.pose.restore if self.pose is not None else self.mover.restore,
-                    *self.appearance.undo_steps(), lambda: previews.show(self.doc)]
+                    *self.appearance.undo_steps(), lambda: previews.show(self.doc)] + \
+                ([self.fork.restore] if self.fork is not None else [])
         for step in undo:
             try:
                 step()
@@ -210,6 +220,10 @@ class ScanAnimation(QtCore.QObject):
             hit = tuple(name for z_in, z_out, name in self.spans if z_in <= self.z <= z_out)
             self.appearance.show_beam(BEAM_BLOCKED if hit else BEAM_CLEAR)
             self.appearance.light(hit)
+            if self.clearance is not None:
+                down = self.scan.direction == UPDOWN and self.k >= self.count
+                self.clearance.at(self.clearance.motion_at(self.z, down), self.z)
+                self.fork.show(self.clearance.contact)
         except Exception as exc:  # e.g. a robot link deleted while the animation runs
             self._end(fault=f"{type(exc).__name__}: {exc}")
             return

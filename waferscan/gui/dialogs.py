@@ -34,7 +34,8 @@ def show_results_dialogs(doc=None, which=("table", "code"), result=None):
     views = session.results_windows.setdefault(doc.Name, {})
     dialogs = []
     for kind in which:
-        dialog = ResultsTable(result, doc) if kind == "table" else SlotCodeDialog(result)
+        dialog = (ResultsTable(result, doc) if kind == "table"
+                  else SlotCodeDialog(result, doc=doc))
         dialog.setWindowTitle(f"{DIALOG_TITLES[kind]}: {doc.Label}")
         dialog.setAttribute(QtCore.Qt.WA_DeleteOnClose)
         if kind == "code":  # room for the side view, on screens that have it
@@ -85,13 +86,21 @@ def cross_check(doc):
         QtGui.QApplication.restoreOverrideCursor()
         Gui.getMainWindow().statusBar().clearMessage()
     text = format_crosscheck(check)
+    motions = ""
+    if check.clearance is not None:  # SPEC §15: each motion's least distance, coal vs B-rep
+        from ..cad.clearance_brep import format_clearance
+
+        *lines, verdict = text.split("\n")
+        text = "\n".join([*lines, format_clearance(check.clearance), "", verdict])
+        count = len(check.clearance.checks)
+        motions = f" and the clearance of {count} motion{'' if count == 1 else 's'}"
     (App.Console.PrintMessage if check.ok else App.Console.PrintWarning)(
         f"WaferScan cross-check of {doc.Label}:\n{text}\n")
     box = QtGui.QMessageBox(QtGui.QMessageBox.Information if check.ok
                             else QtGui.QMessageBox.Warning, "WaferScan cross-check",
                             f"{'Confirmed' if check.ok else 'NOT confirmed'}: largest deviation "
                             f"{check.largest_deviation:.2e} mm over {len(check.wafers)} wafers "
-                            f"and {len(check.runs)} sensor runs.",
+                            f"and {len(check.runs)} sensor runs{motions}.",
                             QtGui.QMessageBox.Ok, Gui.getMainWindow())
     box.setDetailedText(text)
     box.setWindowTitle(f"WaferScan cross-check: {doc.Label}")

@@ -1,7 +1,8 @@
 """A slow scan's pocket seen from above (SPEC §13): the wafer's outline (and where a seated wafer
 would be), the beam at the start pose, at the jab's first contact and deepest point, and at the
 sweep's first and last blocked angles, with the points where it met the wafer, and where the
-sweep turned a tine into the wafer. Drawn from
+sweep turned a tine into the wafer, and the region the fork's collision boxes swept in the
+jab and the sweep (SPEC §15: where the fork went, against the wafer). Drawn from
 ``core.scan.pocket_plan`` only; a slot chooser picks the pocket."""
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ BEAM_STYLES = {
 SEATED = (150, 150, 150)   # a seated wafer's outline, dashed
 STRIKE = (190, 0, 110)     # a tine's path inside the wafer during the sweep (a fork strikes it)
 WRIST = (120, 60, 0)
+FORK = (110, 70, 170)      # the region the fork's parts swept: violet, filled see-through
+FORK_FILL_ALPHA = 60
 CONTACT_RADIUS_PX = 4.5
 MARGIN_PX = 18
 
@@ -34,6 +37,7 @@ class PlanCanvas(QtGui.QWidget):
         self.colours = colours
         self.plan = None
         self.state = None
+        self.swept = ()  # the fork's parts' swept regions (pocket_plan.PlanSwept)
         self.drawn = []
         self.legend_box = None  # (x, y, width, height) of the legend, as last painted
         self.setMinimumSize(260, 260)
@@ -41,11 +45,24 @@ class PlanCanvas(QtGui.QWidget):
                         "wafer (filled), a seated wafer (dashed), the beam at the start pose, at "
                         "the jab's first contact (red) and at the sweep's first (blue) and last "
                         "(green) blocked angles, a tine's path inside the wafer (crimson: a real "
-                        "fork would strike it); dots: where the beam met the wafer")
+                        "fork would strike it), the region the fork's tines swept in the jab "
+                        "and the sweep (violet); dots: where the beam met the wafer")
 
-    def set_plan(self, plan, state):
-        self.plan, self.state = plan, state
+    def set_plan(self, plan, state, swept=()):
+        """Show ``plan`` (a PocketPlan) of a slot in ``state``, with the fork's ``swept``
+        regions (PlanSwept)."""
+        self.plan, self.state, self.swept = plan, state, tuple(swept)
         self.update()
+
+    def fork_path(self, swept):
+        """The outline of a part's swept region as a QPainterPath in widget pixels: the union
+        of its convex pieces."""
+        path = QtGui.QPainterPath()
+        path.setFillRule(QtCore.Qt.WindingFill)
+        for piece in swept.pieces:
+            path.addPolygon(QtGui.QPolygonF([QtCore.QPointF(*self.to_pixel(*p)) for p in piece]))
+            path.closeSubpath()
+        return path.simplified()
 
     def _bounds(self):
         plan = self.plan
@@ -57,7 +74,17 @@ class PlanCanvas(QtGui.QWidget):
             for u, v in beam.ends:
                 us.append(u)
                 vs.append(v)
-        return min(us), max(us), min(vs), max(vs)
+        u0, u1, v0, v1 = min(us), max(us), min(vs), max(vs)
+        if self.swept:
+            # The fork's swept regions too, as far as a wafer's radius beyond the rest: the
+            # tines straddling the wafer show whole, the palm at the wrist stays off the page.
+            reach = max(d.radius for d in (plan.seated, *plan.wafers))
+            points = [p for s in self.swept for piece in s.pieces for p in piece]
+            u0 = min(u0, max(min(p[0] for p in points), u0 - reach))
+            u1 = max(u1, min(max(p[0] for p in points), u1 + reach))
+            v0 = min(v0, max(min(p[1] for p in points), v0 - reach))
+            v1 = max(v1, min(max(p[1] for p in points), v1 + reach))
+        return u0, u1, v0, v1
 
     def legend(self):
         """What the line styles and colours mean, for what this plan draws."""
@@ -67,6 +94,8 @@ class PlanCanvas(QtGui.QWidget):
             legend += " · blue/green: sweep's first/last"
         if plan.strikes:
             legend += " · crimson: a tine inside the wafer"
+        if self.swept:
+            legend += " · violet: where the fork went"
         return legend
 
     def _wrapped_height(self, text):
@@ -148,6 +177,21 @@ class PlanCanvas(QtGui.QWidget):
                 painter.drawLine(QtCore.QPointF(x - 5, y - 5), QtCore.QPointF(x + 5, y + 5))
                 painter.drawLine(QtCore.QPointF(x - 5, y + 5), QtCore.QPointF(x + 5, y - 5))
             self.drawn.append(("wrist", "inside" if inside else "below"))
+        # Where the fork's parts went in the jab and the sweep, under the beams (SPEC §15).
+        fork = QtGui.QColor(*FORK)
+        fill = QtGui.QColor(fork)
+        fill.setAlpha(FORK_FILL_ALPHA)
+        if self.swept:  # kept off the title and the legend: the fork runs off the page
+            top = self._title_rect().bottom() + 2
+            painter.setClipRect(QtCore.QRectF(0, top, self.width(),
+                                              self._legend_rect().top() - 2 - top))
+        for swept in self.swept:
+            painter.setPen(QtGui.QPen(fork, 1.2))
+            painter.setBrush(fill)
+            painter.drawPath(self.fork_path(swept))
+            self.drawn.append(("fork", swept.part))
+        painter.setClipping(False)
+        painter.setBrush(QtCore.Qt.NoBrush)
         # Where the sweep turns a tine into the wafer: its path there, under the beams.
         painter.setPen(QtGui.QPen(QtGui.QColor(*STRIKE), 3.5))
         for arc in plan.strikes:
@@ -210,9 +254,11 @@ class PlanCanvas(QtGui.QWidget):
 class PocketPlanView(QtGui.QWidget):
     """A slot chooser over a PlanCanvas: each probed pocket of a slow scan, seen from above."""
 
-    def __init__(self, result, colours, parent=None):
+    def __init__(self, result, colours, parent=None, doc=None):
         super().__init__(parent)
         self.result = result
+        self.doc = doc  # the document scanned (its robot's fork is drawn), or None
+        self._footprints = None
         self.states = {s.slot: s.state for s in result.slot_map.slots}
         self.chooser = QtGui.QComboBox(self)
         self.chooser.setToolTip("The pocket to show: its jab and sweep seen from above")
@@ -244,4 +290,15 @@ class PocketPlanView(QtGui.QWidget):
 
     def _chosen(self, index):
         slot = self.slots[index]
-        self.canvas.set_plan(plans.pocket_plan(self.result, slot), self.states.get(slot))
+        self.canvas.set_plan(plans.pocket_plan(self.result, slot), self.states.get(slot),
+                             plans.fork_swept(self.result, slot, self.footprints()))
+
+    def footprints(self):
+        """The fork's collision boxes seen from above in the start pose (read once), or []
+        without a robot (or pinocchio)."""
+        if self._footprints is None:
+            from .clearance_view import fork_footprints, scan_body
+
+            body = scan_body(self.result, self.doc)
+            self._footprints = fork_footprints(body) if body is not None else []
+        return self._footprints

@@ -29,20 +29,27 @@ SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)  # the panel's choices: × the frames a
 
 def pocket_frames(result):
     """The animation's frames: (slot, phase, z, advance mm, wrist turn deg) for each probed
-    pocket: the jab in, the sweep 0 -> -A -> +A -> 0 at the deepest point, the jab out."""
-    scan = result.layout.scan
+    pocket: the jab in, the sweep 0 -> low -> high -> 0 at the deepest point (-A and +A unless
+    the sweep stopped short), the jab out."""
+    from ..core.scan.pocket_plan import sweep_angles
+
+    layout = result.layout
     frames = []
     for probe in result.pockets:
-        z, depth, amplitude = probe.z, probe.depth, scan.sweep
+        z, depth = probe.z, probe.depth
         if depth > 0.0:
             frames += [(probe.slot, "jab", z, depth * k / JAB_FRAMES, 0.0)
                        for k in range(JAB_FRAMES + 1)]
-        if amplitude > 0.0:
+        # The angles the sweep turned: where each side stopped short of clearance_min
+        # (SPEC §13 amended), else the whole ±sweep.
+        angles = sweep_angles(layout, probe)
+        if angles is not None:
+            low, high = angles
             quarter = SWEEP_FRAMES // 4
-            turns = ([-amplitude * k / quarter for k in range(quarter + 1)]
-                     + [-amplitude + 2 * amplitude * k / (2 * quarter)
+            turns = ([low * k / quarter for k in range(quarter + 1)]
+                     + [low + (high - low) * k / (2 * quarter)
                         for k in range(1, 2 * quarter + 1)]
-                     + [amplitude - amplitude * k / quarter for k in range(1, quarter + 1)])
+                     + [high - high * k / quarter for k in range(1, quarter + 1)])
             frames += [(probe.slot, "sweep", z, depth, a) for a in turns]
         if depth > 0.0:
             frames += [(probe.slot, "back", z, depth * (1 - k / JAB_FRAMES), 0.0)
@@ -75,6 +82,12 @@ class PocketAnimation(QtCore.QObject):
         self.layout = layout
         scene = DocumentScene.of(doc)
         self.arm = arm_for(mover_for(scene, layout), layout)
+        # SPEC §15: the least clearance at each frame (the scan's body, made once a scan), the
+        # fork drawn red while closer than clearance_min.
+        from .clearance_view import ForkColour, LiveClearance
+
+        self.clearance = LiveClearance.of(result, doc, scene)
+        self.fork = ForkColour(doc) if self.clearance is not None else None
         self.beam_obj = scene.scanner().obj
         self.frames = pocket_frames(result)
         self.near = {}
@@ -142,9 +155,13 @@ class PocketAnimation(QtCore.QObject):
         self.timer.stop()
         self._closing.close()
         if self.closed:
+            if self.fork is not None:
+                self.fork.release()
             self.finished.emit()
             return
         try:
+            if self.fork is not None:
+                self.fork.restore()
             previews.show(self.doc)
             self.arm.restore()
             self._colour(BEAM_CLEAR)
@@ -163,7 +180,26 @@ class PocketAnimation(QtCore.QObject):
         emitter, beam = slow_scan.beam_at(self.layout, z, advance, turn)
         self.blocked = any(beam_hits_wafer(emitter, beam, w) for w in self.near[z])
         self._colour(BEAM_BLOCKED if self.blocked else BEAM_CLEAR)
+        if self.clearance is not None:
+            self._clearance(frame)
         return frame
+
+    def _clearance(self, frame):
+        """The least distance at the frame, of the pocket's jab (the advance) or sweep (the
+        wrist angle) as the scan's report measured them; the fork red while a contact."""
+        from ..core.scan import clearance as core
+        from ..core.scan.pocket_plan import sweep_angles
+
+        slot, phase, z, advance, turn = frame
+        probe = next(p for p in self.result.pockets if p.slot == slot)
+        if phase == "sweep":
+            motion = self.clearance.pocket_motion(core.SWEEP, slot, z, advance,
+                                                  sweep_angles(self.layout, probe))
+            self.clearance.at(motion, turn)
+        else:
+            motion = self.clearance.pocket_motion(core.JAB, slot, z, probe.depth, None)
+            self.clearance.at(motion, advance)
+        self.fork.show(self.clearance.contact)
 
     def _colour(self, colour):
         view = self.beam_obj.ViewObject
@@ -224,6 +260,11 @@ class PocketTaskPanel(ClosableTaskPanel):
         form.addRow("Phase", self.phase)
         form.addRow("Arm", self.amount)
         form.addRow("Beam", self.beam)
+        from .clearance_view import clearance_labels
+
+        self.clearance, self.least = clearance_labels(animation.clearance)
+        if animation.clearance is not None:
+            form.addRow("Clearance", self.clearance)
         form.addRow("Found", self.found)
         self.status = self.alive_while_shown = QtGui.QLabel("")
         self.status.setWordWrap(True)
@@ -277,6 +318,9 @@ class PocketTaskPanel(ClosableTaskPanel):
         sweep = "none" if probe.sweep is None else \
             f"{probe.sweep[0]:+.3f}° to {probe.sweep[1]:+.3f}°"
         self.found.setText(f"front {front}, sweep {sweep}")
+        from .clearance_view import show_clearance
+
+        show_clearance(self.clearance, self.animation.clearance)
 
     def _finished(self):
         if not self.is_open():

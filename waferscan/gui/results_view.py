@@ -175,7 +175,7 @@ class SlotCodeDialog(QtGui.QDialog):
     Fig. 7), a side view of the carrier with the sensor runs against the slots (as its Fig. 6),
     the SEMI E87 map, and a button to copy the code."""
 
-    def __init__(self, result, parent=None):
+    def __init__(self, result, parent=None, doc=None):
         super().__init__(parent or Gui.getMainWindow())
         self.setWindowTitle("WaferScan slot code")
         self.result = result
@@ -241,7 +241,7 @@ class SlotCodeDialog(QtGui.QDialog):
         if result.pockets:  # SPEC §13: each probed pocket seen from above, beside the side view
             from .plan_view import PocketPlanView
 
-            self.plan_view = PocketPlanView(result, STATE_COLOURS, self)
+            self.plan_view = PocketPlanView(result, STATE_COLOURS, self, doc)
             self.views = QtGui.QTabWidget(self)
             self.views.addTab(self.side_view, "Side view")
             self.views.addTab(self.plan_view, "Pockets from above")
@@ -253,6 +253,12 @@ class SlotCodeDialog(QtGui.QDialog):
         layout.addWidget(self.code_label)
         layout.addWidget(self.host_label)  # one line under the code, the width of the dialog
         layout.addLayout(strip)
+        # SPEC §15: the least clearance of the scan's motions, and each contact
+        self.clearance_label, self.contacts = clearance_widgets(result, self)
+        if self.clearance_label is not None:
+            layout.addWidget(self.clearance_label)
+        if self.contacts is not None:
+            layout.addWidget(self.contacts)
         from .signal_view import SignalView  # SPEC §10: the sensor's signal, the whole scan
 
         self.signal_view = SignalView(result, self)
@@ -275,3 +281,69 @@ class SlotCodeDialog(QtGui.QDialog):
         self.host_label.setStyleSheet(f"background: {colour}; padding: 4px;" if colour else "")
         self.host_label.setText(text)
         self.host_label.show()
+
+
+CONTACT_HEADERS = ("Distance [mm]", "Robot", "Obstacle", "Slot", "Motion", "Position")
+
+
+def clearance_words(report):
+    """The slot-code dialog's line on SPEC §15's clearance: the least distance of the scan's
+    motions, where, and against clearance_min; the contacts counted when there are any."""
+    from ..core.scan.clearance import describe
+
+    least = report.least
+    if least is None:
+        return f"Clearance: no motion checked (clearance_min {report.clearance_min:g} mm)"
+    text = f"Least clearance {describe(least)}; clearance_min {report.clearance_min:g} mm"
+    contacts = report.contacts
+    if contacts:
+        text += (f". {len(contacts)} contact{'s' if len(contacts) > 1 else ''} closer than "
+                 "clearance_min: the robot must not run this scan")
+    return text
+
+
+def contact_row(c):
+    """A contact's cells (CONTACT_HEADERS), as ``clearance.describe`` words them."""
+    from ..core.scan.clearance import _WHERE  # the words describe() gives a position
+
+    where = _WHERE[c.motion.unit].format(c.position)
+    if c.motion.z is not None and c.motion.unit != "z":
+        where += f" at scan position {c.motion.z:.3f} mm"
+    return (f"{c.distance:.3f}" + ("" if c.exact else " (at least)"), c.part, c.obstacle,
+            "" if c.slot is None else str(c.slot), c.motion.phase, where)
+
+
+def clearance_widgets(result, parent):
+    """(label, table): the least clearance in words (red with a contact), and a table of the
+    contacts (None when there is none); (None, None) when the scan's clearance was not checked
+    (no pinocchio)."""
+    from ..core.scan.clearance import describe
+
+    report = getattr(result, "clearance", None)
+    if report is None:
+        return None, None
+    label = QtGui.QLabel(clearance_words(report), parent)
+    label.setWordWrap(True)
+    label.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+    label.setToolTip("SPEC §15: the least distance between the robot's collision geometry (its "
+                     "URDF's, or the scanner's heads without a robot) and every wafer, along "
+                     "each motion of the scan")
+    contacts = report.contacts
+    if not contacts:
+        return label, None
+    label.setStyleSheet("color: #c01010; font-weight: bold;")
+    table = QtGui.QTableWidget(len(contacts), len(CONTACT_HEADERS), parent)
+    table.setHorizontalHeaderLabels(list(CONTACT_HEADERS))
+    table.verticalHeader().setVisible(False)
+    table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+    for row, c in enumerate(contacts):
+        for column, text in enumerate(contact_row(c)):
+            item = QtGui.QTableWidgetItem(text)
+            item.setToolTip(describe(c))
+            table.setItem(row, column, item)
+    table.resizeColumnsToContents()
+    table.horizontalHeader().setStretchLastSection(True)
+    rows = min(len(contacts), 4)
+    table.setFixedHeight(table.horizontalHeader().height() + rows * table.rowHeight(0) + 6)
+    table.setToolTip("Each motion of the scan that comes closer than clearance_min")
+    return label, table

@@ -9,6 +9,7 @@ from PySide import QtCore, QtGui
 
 from ..addon import icon_path
 from .inputs import format_length, length_input, set_length
+from .clearance_view import clearance_labels, show_clearance
 from .qt import ClosableTaskPanel, set_progress
 
 
@@ -46,6 +47,8 @@ class ScanTaskPanel(ClosableTaskPanel):
         self.z.setReadOnly(True)
         self.beam = QtGui.QLabel("beam clear")
         self.beam.setToolTip("What the beam is blocked by at this position")
+        # SPEC §15: the least clearance at the frame shown, and over the whole scan.
+        self.clearance, self.least = clearance_labels(animation.clearance)
         self.progress = QtGui.QProgressBar()
         self.progress.setRange(0, animation.frames - 1)
         self.play_button = QtGui.QPushButton("Play")
@@ -81,6 +84,9 @@ class ScanTaskPanel(ClosableTaskPanel):
         form = QtGui.QFormLayout()
         form.addRow("Position", self.z)
         form.addRow("Beam", self.beam)
+        if animation.clearance is not None:
+            form.addRow("Clearance", self.clearance)
+            form.addRow("Least", self.least)
         form.addRow("Playback", self.speed)
         layout_box = QtGui.QVBoxLayout(self.form)
         layout_box.addWidget(about)
@@ -162,6 +168,7 @@ class ScanTaskPanel(ClosableTaskPanel):
         if text != self.beam.text():
             self.beam.setText(text)
             self.beam.setStyleSheet("color: #c01010; font-weight: bold;" if lit else "")
+        show_clearance(self.clearance, self.animation.clearance)
 
     def _finished(self):
         animation = self.animation
@@ -184,3 +191,4 @@ class ScanTaskPanel(ClosableTaskPanel):
 
     def shut_down(self):
         self.animation.stop()
+

@@ -202,3 +202,115 @@ def chosen_slots(result, most=4):
     met = [p.slot for p in result.pockets
            if p.slot not in judged and (p.front is not None or p.sweep is not None)]
     return (judged + met)[:most]
+
+
+# --- where the fork went (SPEC §15 in the plan) -------------------------------------------------
+
+FORK_STEP_DEG = 1.0  # the sweep's outlines at most this far apart (see PlanSwept)
+
+
+@dataclass(frozen=True)
+class PlanSwept:
+    """Where one part of the fork went during a pocket's jab and sweep, seen from above, in the
+    plan's (u, v) mm. ``part``: its name (the URDF's collision element); ``pieces``: convex
+    polygons whose union is the region it swept: the jab's (the hull of its outline at the
+    start pose and at the jab's deepest point: a straight advance sweeps exactly that) and the
+    sweep's (the hulls of consecutive outlines at most FORK_STEP_DEG apart; a point between two
+    turns lies on an arc whose chord the hull holds, so the union misses at most the arc's
+    sagitta, r (1 - cos(step / 2)): 0.01 mm at 275 mm from the wrist); ``outlines``: its
+    outline (convex, counter-clockwise) at the start pose, the jab's deepest point and the
+    sweep's two ends, as (what, polygon) pairs; ``angles``: the wrist angles (low, high) the
+    sweep turned, or None; ``advance``: the jab's depth (mm)."""
+
+    part: str
+    pieces: tuple
+    outlines: tuple
+    angles: tuple | None
+    advance: float
+
+
+def convex_hull(points):
+    """The convex hull of 2D points, counter-clockwise, without repeated or collinear points
+    (Andrew's monotone chain)."""
+    pts = sorted(set((float(x), float(y)) for x, y in points))
+    if len(pts) <= 2:
+        return tuple(pts)
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0.0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0.0:
+            upper.pop()
+        upper.append(p)
+    return tuple(lower[:-1] + upper[:-1])
+
+
+def fork_pose(layout, z, advance=0.0, turn=0.0):
+    """f(x, y) -> (x, y): where the fork's rigid motion takes a point seen from above (world X,
+    Y mm) given in the start pose: advanced ``advance`` mm along the heading, then turned by
+    ``turn`` degrees about the wrist axis, as ``slow_scan.beam_at`` moves the beam."""
+    hx, hy, _ = slow_scan.heading(layout)
+    wx, wy = slow_scan.wrist_axis(layout, z, advance)
+    a = math.radians(turn)
+    c, s = math.cos(a), math.sin(a)
+
+    def moved(x, y):
+        dx, dy = x + advance * hx - wx, y + advance * hy - wy
+        return (wx + c * dx - s * dy, wy + s * dx + c * dy)
+
+    return moved
+
+
+def sweep_angles(layout, probe):
+    """The wrist angles (low, high) a pocket's sweep turned: the probe's ``reached`` when it
+    says (SPEC §13 amended: each side stops short of clearance_min), else the whole
+    ±sweep; None without a sweep."""
+    sweep = layout.scan.sweep
+    if sweep <= 0.0:
+        return None
+    reached = getattr(probe, "reached", None)
+    return (float(reached[0]), float(reached[1])) if reached else (-sweep, sweep)
+
+
+def fork_swept(result, slot, parts, step_deg=FORK_STEP_DEG):
+    """The region each part of the fork swept at a probed pocket (a tuple of PlanSwept), or ()
+    when the slot was not probed. ``parts``: [(name, [(x, y) …])], each part's points seen from
+    above (world X, Y in mm; its outline is their convex hull) with the robot in the scan's
+    start pose (the robot layer gives them: its URDF's collision boxes)."""
+    probe = next((p for p in result.pockets if p.slot == slot), None)
+    if probe is None or not parts:
+        return ()
+    layout = result.layout
+    to_local = _frame(layout.scanned_carrier)
+    depth = probe.depth
+    angles = sweep_angles(layout, probe)
+    swept = []
+    for name, points in parts:
+        outline = convex_hull(points)
+
+        def at(advance, turn, outline=outline):
+            move = fork_pose(layout, probe.z, advance, turn)
+            return convex_hull([to_local(*move(x, y)) for x, y in outline])
+
+        start, deepest = at(0.0, 0.0), at(depth, 0.0)
+        outlines = [("start", start)]
+        pieces = []
+        if depth > 0.0:
+            pieces.append(convex_hull(start + deepest))
+            outlines.append(("deepest", deepest))
+        if angles is not None and angles[1] > angles[0]:
+            low, high = angles
+            count = max(1, int(math.ceil((high - low) / step_deg)))
+            turns = [at(depth, low + (high - low) * i / count) for i in range(count + 1)]
+            pieces += [convex_hull(a + b) for a, b in zip(turns, turns[1:])]
+            outlines += [("sweep low", turns[0]), ("sweep high", turns[-1])]
+        if not pieces:
+            pieces.append(start)
+        swept.append(PlanSwept(name, tuple(pieces), tuple(outlines), angles, depth))
+    return tuple(swept)
