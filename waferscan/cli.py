@@ -358,6 +358,13 @@ def cmd_bench(args):
     return 0
 
 
+def _robot_stroke_body(layout):
+    """A [clearance] report's robot, reduced to prisms (Pinocchio imported only then)."""
+    from .robot.sweep_clearance import stroke_body
+
+    return stroke_body(layout)
+
+
 def cmd_sweep(args):
     from . import sweep
 
@@ -368,7 +375,7 @@ def cmd_sweep(args):
         summary, histograms = sweep.run(
             args.input, args.tolerances, args.n, seed=args.seed, workers=args.workers,
             scheduler=args.scheduler, partition_count=args.partitions, rules=args.rules,
-            progress=progress)
+            progress=progress, clearance_body=_robot_stroke_body)
     finally:
         progress.close()
     # The summary first: a set of files that cannot be written loses nothing computed.
@@ -508,7 +515,9 @@ def build_parser():
     sweep = sub.add_parser("sweep", help="Monte Carlo check of a recipe under tolerances "
                                          "(SPEC §12), on Dask")
     sweep.add_argument("input", metavar="INPUT", help="scenario .toml or layout .FCStd")
-    sweep.add_argument("--tolerances", metavar="TOL.toml", required=True)
+    sweep.add_argument("--tolerances", metavar="TOL.toml", required=True,
+                       help="the tolerances to draw from; a [clearance] table adds the rate of "
+                            "scans with a contact (SPEC §15)")
     sweep.add_argument("-n", type=_at_least_one, required=True, metavar="N",
                        help="how many layouts to draw")
     sweep.add_argument("--seed", type=_not_negative, default=0,

@@ -147,6 +147,11 @@ def contract(report):
                                        f"minute in one process (>= 10,000); "
                                        f"{sweep['1 mm spot, level beam']:,.0f} without the "
                                        f"beam's tilt"))
+        contact = sweep.get("contact rate, in process")
+        if contact is not None:
+            checks.append((contact >= 10_000, f"sweep's contact rate ([clearance], SPEC §15), "
+                                              f"25-slot FOUP with its robot: {contact:,.0f} "
+                                              f"layouts a minute in one process (>= 10,000)"))
         checks.append((ratio >= 1.6, f"sweep on 2 Dask workers: {ratio:.2f}x one worker "
                                      f"({sweep['Dask 2 workers']:,.0f} against "
                                      f"{sweep['Dask 1 worker']:,.0f} layouts a minute; "

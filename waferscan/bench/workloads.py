@@ -320,11 +320,24 @@ def bench_spot(paper, rounds, add):
     return {entry["engine"]: entry["seconds"] for entry in rows}
 
 
+def _stroke_body(paper):
+    """The paper robot's collision geometry reduced for a sweep's [clearance] report, or None
+    without Pinocchio (the contact-rate figure is then not measured)."""
+    from ..addon import MissingPinocchio
+
+    try:
+        from ..robot.sweep_clearance import stroke_body
+    except (ImportError, MissingPinocchio):
+        return None
+    return stroke_body(paper)
+
+
 def bench_sweep(paper, rounds, add, quick=False):
     """SPEC §9 / §12: sampled layouts a minute of a sweep of the paper's 25-slot FOUP under
     resources/examples/fab_tolerances.toml (seat, thickness, protrusion, beam height and tilt,
     response time, every state drawn): the library function in this process with the ideal
-    beam and with a 1 mm spot, interleaved; then a Dask LocalCluster of 1 worker against one of
+    beam and with a 1 mm spot, and the ideal beam's with its [clearance] report (the rate of
+    layouts with a contact, SPEC §15; with Pinocchio), interleaved; then a Dask LocalCluster of 1 worker against one of
     2 (both started before the timing, as a user's cluster is), interleaved. Rows ``sweep``;
     returns {name: layouts a minute} and the 2-worker / 1-worker ratio."""
     from ..core import sweep
@@ -344,11 +357,20 @@ def bench_sweep(paper, rounds, add, quick=False):
         "1 mm spot, in process": lambda: sweep.run_sweep(spot, tolerances, n_spot, seed=1),
         "1 mm spot, level beam": lambda: sweep.run_sweep(spot, level, n_spot, seed=1),
     }
+    measured = [("ideal beam, in process", n_ideal, paper),
+                ("1 mm spot, in process", n_spot, spot),
+                ("1 mm spot, level beam", n_spot, spot)]
+    body = _stroke_body(paper)
+    if body is not None:  # SPEC §15: the same sweep with its [clearance] report
+        from ..core.sweep.clearance import ClearanceStudy
+
+        contact = replace(tolerances, clearance=ClearanceStudy())
+        tasks["contact rate, in process"] = lambda: sweep.run_sweep(
+            paper, contact, n_ideal, seed=1, clearance_body=body)
+        measured.append(("contact rate, in process", n_ideal, paper))
     times, results = interleaved(tasks, max(1, rounds // 3))
     rates = {}
-    for name, n, layout in (("ideal beam, in process", n_ideal, paper),
-                            ("1 mm spot, in process", n_spot, spot),
-                            ("1 mm spot, level beam", n_spot, spot)):
+    for name, n, layout in measured:
         rates[name] = per_minute(n, times[name])
         add(row("sweep", name, layout, times[name], layouts=n,
                 layouts_per_minute=rates[name]))

@@ -227,11 +227,14 @@ class DaskPartitions:
 
 
 def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
-              partition_count=None, rules=None, progress=None):
+              partition_count=None, rules=None, progress=None, clearance_body=None):
     """Load, sweep and summarise; returns (summary dict, the margins' histograms: {"thickness" |
     "position": (counts, bin edges)}). ``workers``: the local cluster's worker processes
     (default: this machine's cores; 0: no Dask, in this process);
-    ``scheduler``: the address of an existing Dask scheduler instead."""
+    ``scheduler``: the address of an existing Dask scheduler instead. ``clearance_body``: what
+    reduces a robot for a [clearance] report (layout -> core.sweep.clearance.StrokeBody:
+    waferscan.robot.sweep_clearance.stroke_body, which the command passes; this package does
+    not import the robot's)."""
     layout = load_layout(input_path)
     tolerances = read_tolerances(tolerance_path)
     try:
@@ -241,9 +244,10 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
     if "beam_tilt" in tolerances.quantities and layout.beam.direction[:2] == (0.0, 0.0):
         raise InputError(tolerance_path, None, "[beam_tilt]: the INPUT's beam runs vertically")
     check_count(n, layout)
+    body = _clearance_body(layout, tolerances, clearance_body)
     if workers == 0 and scheduler is None:
         count = partition_count or 1
-        return _sweep(layout, tolerances, n, seed, rules, count, None, progress)
+        return _sweep(layout, tolerances, n, seed, rules, count, None, progress, None, body)
     from distributed import Client
 
     cluster = None
@@ -259,7 +263,8 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         workers = max(1, len(client.scheduler_info().get("workers", {})))
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
-        return _sweep(layout, tolerances, n, seed, rules, count, client, progress, scheduler)
+        return _sweep(layout, tolerances, n, seed, rules, count, client, progress, scheduler,
+                      body)
     except KeyboardInterrupt:
         # Ctrl-C: the command says so in one line (cli.main); the cluster torn down mid-task
         # logs its cancelled coroutines as ERROR tracebacks, which are not the user's news.
@@ -342,7 +347,25 @@ def _connect(Client, scheduler):
                          f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
 
 
-def _sweep(layout, tolerances, n, seed, rules, count, client, progress, address=None):
+def _clearance_body(layout, tolerances, reduce):
+    """The robot's collision geometry reduced for the [clearance] report by ``reduce``
+    (waferscan.robot.sweep_clearance.stroke_body, with Pinocchio and coal, here: the workers
+    get numbers only), or None: no report asked, or no robot (the core reduces the scanner's
+    heads)."""
+    if tolerances.clearance is None or layout.robot is None:
+        return None
+    if reduce is None:
+        raise InputError(tolerances.source, None, "[clearance]: the layout's robot is reduced "
+                         "by waferscan.robot.sweep_clearance.stroke_body; pass it as "
+                         "clearance_body")
+    try:
+        return reduce(layout)
+    except ValueError as exc:
+        raise InputError(tolerances.source, None, str(exc)) from None
+
+
+def _sweep(layout, tolerances, n, seed, rules, count, client, progress, address=None,
+           clearance_body=None):
     parts = sweep.partitions(n, count)
 
     def sizes_of(i):
@@ -358,7 +381,8 @@ def _sweep(layout, tolerances, n, seed, rules, count, client, progress, address=
     try:
         base, tally = sweep.sweep_tally(layout, tolerances, n, seed, rules=rules,
                                         partition_count=count, runner=runner,
-                                        progress=local_progress, histograms=True)
+                                        progress=local_progress, histograms=True,
+                                        clearance_body=clearance_body)
     except ValueError as exc:
         raise InputError(tolerances.source, None, str(exc)) from None
     return sweep.summarise(base, tolerances, n, seed, tally), tally["histograms"]

@@ -51,8 +51,23 @@ def margin_rows(summary):
     return rows
 
 
+def clearance_rows(summary):
+    """The [clearance] report as CSV rows (clearance.csv): the rate with its interval, the
+    least distances' distribution, the contacts by closest part and by slot."""
+    c = summary["clearance"]
+    least = c["least_distance"] or {}
+    keys = ["min", *[f"p{p}" for p in sweep.PERCENTILES], "max"]
+    rows = [["body", "clearance_min", "layouts", "contacts", "contact_rate", "low95", "high95",
+             *[f"least_{k}" for k in keys]],
+            [c["body"], c["clearance_min"], c["layouts"], c["contacts"], c["contact_rate"],
+             *c["contact_rate_95"], *[least.get(k, "") for k in keys]],
+            [], ["closest part", "contacts"], *[[k, v] for k, v in c["contacts_by_part"].items()],
+            [], ["slot", "contacts"], *[[k, v] for k, v in c["contacts_by_slot"].items()]]
+    return [[("" if v is None else v) for v in row] for row in rows]
+
+
 OUTPUT_NAMES = ("summary.json", "confusion.csv", "rates.csv", "margins.csv", "confusion.png",
-                "margins.png")
+                "margins.png", "clearance.csv")
 
 
 def output_folder(folder):
@@ -86,8 +101,8 @@ def output_folder(folder):
 
 
 def write_outputs(summary, folder, histograms=None):
-    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png as
-    one set: written in a temporary folder beside ``folder``, then renamed into place (an
+    """summary.json, confusion.csv, rates.csv, margins.csv, confusion.png and margins.png (and
+    clearance.csv with a [clearance] report) as one set: written in a temporary folder beside ``folder``, then renamed into place (an
     earlier sweep's set there is replaced as a whole: never one file from each). Returns the
     paths written; InputError (nothing at ``folder`` changed) when they cannot be."""
     folder = output_folder(folder)
@@ -99,6 +114,8 @@ def write_outputs(summary, folder, histograms=None):
         "rates.csv": _csv(rate_rows(summary)),
         "margins.csv": _csv(margin_rows(summary)),
     }
+    if "clearance" in summary:  # a [clearance] report was asked for
+        files["clearance.csv"] = _csv(clearance_rows(summary))
     try:
         shutil.rmtree(temporary, ignore_errors=True)
         os.mkdir(temporary)
@@ -120,7 +137,8 @@ def write_outputs(summary, folder, histograms=None):
                                        "(the summary is on the standard output)") from None
     finally:
         shutil.rmtree(temporary, ignore_errors=True)
-    return [folder / name for name in OUTPUT_NAMES]
+    return [folder / name for name in OUTPUT_NAMES
+            if name != "clearance.csv" or "clearance" in summary]
 
 
 def format_summary(summary):
@@ -149,4 +167,8 @@ def format_summary(summary):
         lines.append(f"safer windows: thickness {s['thickness_min']:.4f} to "
                      f"{s['thickness_max']:.4f} mm, position -{s['position_below']:.4f} / "
                      f"+{s['position_above']:.4f} mm, threshold_on {s['threshold_on']:g}")
+    if "clearance" in summary:
+        from ..core.sweep.clearance import format_clearance
+
+        lines += format_clearance(summary["clearance"])
     return "\n".join(lines)

@@ -1,7 +1,8 @@
 """Sweeps (SPEC §12): layouts drawn from a tolerance file (``distributions``, ``draws``), scanned
 in blocks over arrays (``block_scan``; ``spot_scan`` with a beam spot), tallied per partition
 block by block (``tally``, ``margins``: in memory that does not grow with N), the partitions
-reduced to one (``reduction``) and summarised (``summary``); ``run`` holds the entry points.
+reduced to one (``reduction``) and summarised (``summary``); ``run`` holds the entry points;
+``clearance`` the ``[clearance]`` report (SPEC §15: the rate of layouts with a contact).
 What scripts and the other layers use is exported here."""
 
 from .block_scan import (

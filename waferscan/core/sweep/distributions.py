@@ -112,6 +112,7 @@ class Tolerances:
     quantities: dict = field(default_factory=dict)
     states: tuple | None = None
     source: str = "<tolerances>"
+    clearance: object = None  # [clearance]: a ClearanceStudy (core/sweep/clearance.py)
 
     def get(self, name):
         return self.quantities.get(name)
@@ -144,20 +145,26 @@ def parse_tolerances(text, source="<tolerances>"):
 
     quantities = {}
     states = None
+    clearance = None
     for name, table in data.items():
         if name == "states":
             if not isinstance(table, dict):
                 raise error("write it as a [states] table", None, name)
             states = _states(table, error)
             continue
+        if name == "clearance":
+            if not isinstance(table, dict):
+                raise error("write it as a [clearance] table", None, name)
+            clearance = _clearance(table, error)
+            continue
         if name not in QUANTITIES:
             raise InputError(source, _line_of(text, name) or _line_of(text, None, name),
                              f"unknown table {name!r} (known: "
-                             f"{', '.join(list(QUANTITIES) + ['states'])})")
+                             f"{', '.join(list(QUANTITIES) + ['states', 'clearance'])})")
         if not isinstance(table, dict):
             raise error(f"write {name} as a [{name}] table with dist = ...", None, name)
         quantities[name] = _distribution(name, table, error)
-    return Tolerances(quantities, states, source)
+    return Tolerances(quantities, states, source, clearance)
 
 
 def _number(value, table, key, error):
@@ -219,6 +226,25 @@ def _distribution(name, table, error):
         raise error(f"[tilt] {key}: a tilt must stay within +-90 degrees, got {table[key]!r}",
                     name, key)
     return dist
+
+
+def _clearance(table, error):
+    """[clearance]: the sweep reports the rate of layouts with a contact (SPEC §15);
+    ``clearance_min`` (mm, > 0) replaces the layout's [mapping] clearance_min."""
+    from .clearance import ClearanceStudy
+
+    for key in table:
+        if key != "clearance_min":
+            raise error(f"[clearance] {key}: unknown key (it takes clearance_min)",
+                        "clearance", key)
+    if "clearance_min" not in table:
+        return ClearanceStudy()
+    value = _number(table["clearance_min"], "clearance", "clearance_min", error)
+    if not 0.0 < value <= LIMITS["protrusion"]:
+        raise error(f"[clearance] clearance_min: a distance above 0 mm and at most "
+                    f"{LIMITS['protrusion']:,.0f} mm, got {table['clearance_min']!r}",
+                    "clearance", "clearance_min")
+    return ClearanceStudy(value)
 
 
 def _states(table, error):

@@ -25,19 +25,21 @@ STATE_DRAW_ORDER = ("absent", "present", "cross", "double", "thin", "misplaced",
 class SweepBase:
     """The INPUT layout reduced to what a sweep varies: the scanned carrier, the recipe (a
     ``SlotPlan``) and the state placed in each slot (truth codes, slot 1 first; the slot above a
-    cross-slotted wafer is CROSS too, ``cross_start`` marks the lower one)."""
+    cross-slotted wafer is CROSS too, ``cross_start`` marks the lower one). ``clearance``: the
+    ``[clearance]`` report's ClearanceCheck (core/sweep/clearance.py), None when not asked."""
 
     layout: object
     carrier: object
     plan: SlotPlan
     load: tuple
     cross_start: tuple
+    clearance: object = None
 
 
-def sweep_base(layout, plan=None, rules=None):
+def sweep_base(layout, plan=None, rules=None, clearance=None):
     """The ``SweepBase`` of a layout: its scanned carrier, the recipe (``plan``, default the
     layout's own; ``rules`` replaces its rule set) and the states its wafers were placed in,
-    read from their geometry (``placed_states``)."""
+    read from their geometry (``placed_states``); ``clearance``: a ClearanceCheck, or None."""
     from ..scan.scan_result import slot_plan
 
     carrier = layout.scanned_carrier
@@ -45,7 +47,7 @@ def sweep_base(layout, plan=None, rules=None):
     if rules is not None:
         plan = replace(plan, rules=rules)
     load, starts = placed_states(layout, carrier, plan)
-    return SweepBase(layout, carrier, plan, tuple(load), tuple(starts))
+    return SweepBase(layout, carrier, plan, tuple(load), tuple(starts), clearance)
 
 
 def placed_states(layout, carrier, plan):

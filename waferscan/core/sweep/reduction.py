@@ -55,6 +55,8 @@ def partition_digest(part, stride=None):
 
     stride = stride or DIGEST_STRIDE
     out = {k: part[k] for k in ("confusion", "moments", "weakest_peak", "extremes")}
+    if "clearance" in part:
+        out["clearance"] = part["clearance"]
     out["margins"] = {}
     for key, values in part["margins"].items():
         if _sorted(values):
@@ -294,6 +296,10 @@ def reduce_partitions(runner, handles, histograms=False):
         if histograms:
             edges[key] = np.histogram_bin_edges(ends[key], bins=MARGIN_BINS)
     nth, hists = _order_statistics(runner, handles, ranks, around, edges)
+    clearance = None
+    if "clearance" in digests[0]:  # integer counts: the same sums in any order
+        clearance = {key: sum(d["clearance"][key] for d in digests)
+                     for key in digests[0]["clearance"]}
     margins = {}
     for key, count in counts.items():
         if count == 0:
@@ -305,9 +311,12 @@ def reduce_partitions(runner, handles, histograms=False):
                                                     lambda r, key=key: nth[key, r]))
         dist["max"] = ends[key][1]
         margins[key] = dist
-    return {"confusion": confusion, "moments": moments, "weakest_peak": weakest,
-            "extremes": extremes,
-            "margins": margins, "histograms": hists}
+    out = {"confusion": confusion, "moments": moments, "weakest_peak": weakest,
+           "extremes": extremes,
+           "margins": margins, "histograms": hists}
+    if clearance is not None:
+        out["clearance"] = clearance
+    return out
 
 
 def _order_statistics(runner, handles, ranks, around, edges):

@@ -31,18 +31,19 @@ partitions the blocks are grouped into and the workers that run them.
 
 from __future__ import annotations
 
+from .clearance import clearance_check
 from .draws import sweep_base
 from .reduction import LocalPartitions, partitions, reduce_partitions
 from .summary import summarise
 from .tally import partition_tally
 
 def sweep_tally(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
-                runner=None, progress=None, histograms=False):
+                runner=None, progress=None, histograms=False, clearance_body=None):
     """Run the sweep and return (base, tally): ``run_sweep`` before its summary (the tally of
     ``reduce_partitions``, with the margins' histograms when asked)."""
     if n < 1:
         raise ValueError(f"a sweep needs at least one layout, got n = {n}")
-    base = sweep_base(layout, plan, rules)
+    base = sweep_base(layout, plan, rules, clearance_check(layout, tolerances, clearance_body))
     parts = partitions(n, partition_count)
     runner = runner or LocalPartitions()
     handles = runner.run(partition_tally, [(base, tolerances, seed, n, blocks)
@@ -51,7 +52,7 @@ def sweep_tally(layout, tolerances, n, seed=0, plan=None, rules=None, partition_
 
 
 def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_count=1,
-              runner=None, progress=None):
+              runner=None, progress=None, clearance_body=None):
     """Sweep N layouts drawn from ``layout`` by ``tolerances`` (core.sweep.distributions.Tolerances) and
     return the summary dict (summary.json's content). ``plan`` / ``rules``: the recipe
     (default: the layout's own). The blocks are grouped into ``partition_count`` partitions,
@@ -61,7 +62,11 @@ def run_sweep(layout, tolerances, n, seed=0, plan=None, rules=None, partition_co
 
         layout = read_scenario("resources/examples/paper.toml")
         summary = run_sweep(layout, read_tolerances("fab_tolerances.toml"), 10_000, seed=1)
+
+    With a ``[clearance]`` table in the tolerances the summary has a ``clearance`` report
+    (core/sweep/clearance.py); ``clearance_body`` is the robot's StrokeBody
+    (waferscan.robot.sweep_clearance.stroke_body(layout)), None for the scanner's heads.
     """
     base, tally = sweep_tally(layout, tolerances, n, seed, plan, rules, partition_count,
-                              runner, progress)
+                              runner, progress, clearance_body=clearance_body)
     return summarise(base, tolerances, n, seed, tally)

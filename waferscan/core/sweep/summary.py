@@ -90,6 +90,32 @@ def rate_intervals(moments, state, slots):
 
 
 
+def clearance_summary(check, counts, least):
+    """summary.json's ``clearance`` (core/sweep/clearance.py): the rate of layouts with a
+    contact and its 95 % interval (``layout_interval``, one trial a layout; a layout's draws are
+    its own), the layouts' least distances
+    (``least``: the reduction's distribution, or None), the contacts by closest part and slot."""
+    from .clearance import METHOD
+
+    n, k = counts["layouts"], counts["contacts"]
+    # One trial per layout: sums over layouts of k_i², k_i n_i, n_i² are k, k, n.
+    low, high = layout_interval(k, n, k, k, n, n)
+    parts = [p.name for p in check.body.parts]
+    return {
+        "clearance_min": check.clearance_min,
+        "body": check.body.body,
+        "motions": list(check.body.motions),
+        "layouts": n,
+        "contacts": k,
+        "contact_rate": k / n if n else None,
+        "contact_rate_95": [low, high],
+        "least_distance": least,
+        "contacts_by_part": {name: int(c) for name, c in zip(parts, counts["by_part"]) if c},
+        "contacts_by_slot": {str(s + 1): int(c) for s, c in enumerate(counts["by_slot"]) if c},
+        "method": METHOD,
+    }
+
+
 def summarise(base, tolerances, n, seed, tally):
     """The sweep's summary (the dict written as summary.json) from ``reduce_partitions``'s
     tally."""
@@ -150,7 +176,13 @@ def summarise(base, tolerances, n, seed, tally):
             "worst_thickness_margin": min(th_min - t_min, t_max - th_max),
         }
     layout = base.layout
-    return {
+    margins = tally["margins"]
+    clearance = None
+    if base.clearance is not None:  # the [clearance] report (core/sweep/clearance.py)
+        margins = {k: v for k, v in margins.items() if k != "clearance"}
+        clearance = clearance_summary(base.clearance, tally["clearance"],
+                                      tally["margins"].get("clearance"))
+    summary = {
         "n": int(n), "seed": int(seed), "slots": int(plan.slot_count),
         "slot_count_total": total,
         "rules": plan.rules,
@@ -166,6 +198,9 @@ def summarise(base, tolerances, n, seed, tally):
         "confusion": confusion,
         "rates": rates,
         "intervals": INTERVALS,
-        "margins": tally["margins"],
+        "margins": margins,
         "suggested": suggested,
     }
+    if clearance is not None:
+        summary["clearance"] = clearance
+    return summary

@@ -36,8 +36,13 @@ def sweep_block(base, tolerances, seed, block, count, scalar=False):
     # The weakest signal a wafer gave: a beam spot's smallest peak blocked fraction over the
     # groups of wafers it saw; the ideal beam blocks all or nothing (1).
     weakest = min(peaks) if peaks else 1.0
-    return {"truth": draws.truth, "reported": states, "thickness": thickness, "bottom": bottom,
-            "weakest_peak": weakest}
+    result = {"truth": draws.truth, "reported": states, "thickness": thickness,
+              "bottom": bottom, "weakest_peak": weakest}
+    if base.clearance is not None:  # the [clearance] report (core/sweep/clearance.py)
+        from .clearance import block_clearance
+
+        result["clearance"] = block_clearance(base.clearance, draws, base.carrier.slot_count)
+    return result
 
 
 # The columns of ``layout_moments``' per-layout vector of each state.
@@ -101,8 +106,11 @@ def block_tally(base, result):
     for code in (PRESENT, THIN, DOUBLE, POSITION_ERROR):
         sel = (truth == code) & own
         measured[STATE_KEYS[code]] = (thickness[sel], offset[sel])
-    return {"confusion": confusion, "moments": moments, "measured": measured,
-            "weakest_peak": result.get("weakest_peak", 1.0)}
+    out = {"confusion": confusion, "moments": moments, "measured": measured,
+           "weakest_peak": result.get("weakest_peak", 1.0)}
+    if "clearance" in result:
+        out["clearance"] = result["clearance"]
+    return out
 
 
 def combine_tallies(tallies):
@@ -151,9 +159,18 @@ def partition_tally(base, tolerances, seed, n, blocks):
     extremes = dict.fromkeys(("thickness", "offset", "thin_thickness", "double_thickness",
                               "misplaced_offset"))
     margins = {"thickness": MarginTally(), "position": MarginTally()}
+    clearance = None
+    if base.clearance is not None:  # the layouts' least distances: one more kind of margin
+        margins["clearance"] = MarginTally()
+        clearance = {"layouts": 0, "contacts": 0,
+                     "by_part": np.zeros(len(base.clearance.body.parts), dtype=np.int64),
+                     "by_slot": np.zeros(base.carrier.slot_count, dtype=np.int64)}
     for tally in block_tallies(base, tolerances, seed, n, blocks):
         confusion += tally["confusion"]
         moments += tally["moments"]
+        if clearance is not None:
+            for key in clearance:
+                clearance[key] = clearance[key] + tally["clearance"][key]
         peak = tally.get("weakest_peak", 1.0)
         weakest = peak if weakest is None else min(weakest, peak)
         measured = tally["measured"]
@@ -165,10 +182,13 @@ def partition_tally(base, tolerances, seed, n, blocks):
             extremes[name] = _ends(values, extremes[name])
         for key, values in margin_values(base.plan, tally).items():
             margins[key].add(values)
-    return {"confusion": confusion, "moments": moments,
-            "weakest_peak": 1.0 if weakest is None else weakest,
-            "extremes": extremes, "margins": margins,
-            "source": (base, tolerances, seed, n, blocks)}
+    out = {"confusion": confusion, "moments": moments,
+           "weakest_peak": 1.0 if weakest is None else weakest,
+           "extremes": extremes, "margins": margins,
+           "source": (base, tolerances, seed, n, blocks)}
+    if clearance is not None:
+        out["clearance"] = clearance
+    return out
 
 
 def partition_margins(source):
@@ -190,5 +210,8 @@ def margin_values(plan, tally):
     low, high = plan.thickness_window()
     below, above = plan.position_window()
     th, off = tally["measured"]["present"]
-    return {"thickness": np.minimum(th - low, high - th),
-            "position": np.minimum(off + below, above - off)}
+    out = {"thickness": np.minimum(th - low, high - th),
+           "position": np.minimum(off + below, above - off)}
+    if "clearance" in tally:  # each layout's least distance to the body (mm)
+        out["clearance"] = tally["clearance"]["least"]
+    return out
