@@ -10,13 +10,12 @@ import sys
 
 sys.path.insert(0, os.environ["WAFERSCAN_GUI_PROBES"])
 from probe_steps import (  # noqa: E402
-    finish, later, result, scan_settings, start, wait_for, window_shot)
+    artifact, finish, later, result, scan_settings, start, wait_for, window_shot)
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
 from PySide import QtGui  # noqa: E402
 
-DOCS = os.environ["WAFERSCAN_GUI_DOCS"]
 PAPER, SLOW = os.environ["WAFERSCAN_GUI_PAPER"], os.environ["WAFERSCAN_GUI_SLOW"]
 FRAMES = [0, 2400, 4840]  # Z 280, 400 and 522 (the least: 522.017)
 state = {}
@@ -99,8 +98,6 @@ def contact_scan():
     animation.timer.stop()
     frames = [show_frame(animation, FRAMES[0]), show_frame(animation, FRAMES[2])]
     window_shot("gui-clearance.png")
-    os.replace(os.path.join(os.environ["WAFERSCAN_GUI_ARTIFACTS"], "gui-clearance.png"),
-               os.path.join(DOCS, "gui-clearance.png"))
     frames.append(show_frame(animation, FRAMES[0]))  # clear again: the fork's own colour
     frames.append(show_frame(animation, FRAMES[2]))  # red again, then the animation stopped
     result["contact_frames"] = frames
@@ -187,7 +184,7 @@ def plan():
         points[name] = [colour.red(), colour.green(), colour.blue()]
     result["plan_points"] = points
     result["plan_legend"] = canvas.legend()
-    dialog.grab().save(os.path.join(DOCS, "gui-clearance-plan.png"))
+    dialog.grab().save(artifact("gui-clearance-plan.png"))
     result["slow_dialog_label"] = dialog.clearance_label.text()
     result["slow_contacts"] = dialog.contacts.rowCount() if dialog.contacts is not None else 0
     App.closeDocument(doc.Name)

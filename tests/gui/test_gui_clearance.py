@@ -23,7 +23,6 @@ PAPER = REPO / "resources" / "examples" / "paper.toml"
 SLOW = REPO / "resources" / "examples" / "slow_jab.toml"
 PROBE = Path(__file__).resolve().with_name("clearance_probe.py")
 ARTIFACTS = REPO / "test-artifacts"
-DOCS = REPO / "docs"
 PAPER_LAYOUT = read_scenario(PAPER)
 SLOW_LAYOUT = read_scenario(SLOW)
 RED = [0.9, 0.1, 0.1]
@@ -57,10 +56,11 @@ def same_polygon(found, expected, tol=1e-6):
 
 @pytest.fixture(scope="module")
 def gui(run_gui_probe):
+    # The screenshots go to test-artifacts (docs/gui-clearance*.png are copies of them).
     for name in ("gui-clearance.png", "gui-clearance-plan.png"):
-        (DOCS / name).unlink(missing_ok=True)
+        (ARTIFACTS / name).unlink(missing_ok=True)
     return run_gui_probe(PROBE, WAFERSCAN_GUI_PAPER=str(PAPER), WAFERSCAN_GUI_SLOW=str(SLOW),
-                         WAFERSCAN_GUI_DOCS=str(DOCS), WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS),
+                         WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS),
                          WAFERSCAN_GUI_POINTS=json.dumps(POINTS))
 
 
@@ -128,7 +128,7 @@ def test_a_contact_turns_the_fork_red_and_back(gui):
     assert contact_again["fork"][0] == pytest.approx(RED, abs=1e-3)
     # The animation ended on a red frame: the fork has its own colour again.
     assert gui["fork_after_contact"] == gui["fork_before"]
-    assert (DOCS / "gui-clearance.png").stat().st_size > 10_000
+    assert (ARTIFACTS / "gui-clearance.png").stat().st_size > 10_000
 
 
 def test_the_slot_code_dialog_lists_the_contacts(gui):
@@ -194,4 +194,4 @@ def test_the_plan_draws_where_the_fork_went(gui):
     assert all(abs(a - b) <= 25 for a, b in zip(seen["tine_right_tip"], tint)), seen
     assert seen["outside"] == WHITE
     assert "violet: where the fork went" in gui["plan_legend"]
-    assert (DOCS / "gui-clearance-plan.png").stat().st_size > 10_000
+    assert (ARTIFACTS / "gui-clearance-plan.png").stat().st_size > 10_000
