@@ -106,13 +106,13 @@ def with_clearance(scene, result, body=None):
     coal is missing."""
     from dataclasses import replace
 
+    layout = result.layout
+    body = body or clearance_body(scene, layout)
+    if body is None:  # without pinocchio (and coal): nothing to check with
+        return result
     from ..core.mapping import UNSCANNED
     from ..robot.clearance import clearance_for
 
-    layout = result.layout
-    body = body or clearance_body(scene, layout)
-    if body is None:
-        return result
     probes = {p.slot: p for p in result.pockets}
     pockets = [probes.get(s.slot, s.slot) for s in result.slot_map.slots
                if s.state != UNSCANNED]
