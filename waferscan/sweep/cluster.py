@@ -18,6 +18,14 @@ from ..core.sweep.distributions import read_tolerances
 # Partitions per worker: enough for the progress line to move and the load to even out; the
 # results do not depend on it (core/sweep/run.py).
 PARTITIONS_PER_WORKER = 4
+# Without --workers or --scheduler a sweep runs in this process until a local cluster pays for
+# itself (SPEC §9). Starting and closing a LocalCluster of 2 workers, with their first imports,
+# costs 1.0-1.5 s on the 2-core machine of docs/performance.md; k workers sweep about 0.8 k
+# times as fast as this process (2 workers: 1.49-1.86x measured). A pilot of PILOT_LAYOUTS
+# layouts in process estimates the whole sweep's time here.
+CLUSTER_START_S = 1.3
+WORKER_EFFICIENCY = 0.8
+PILOT_LAYOUTS = 512
 # How long (s) to wait for an existing scheduler before calling its address bad input.
 CONNECT_TIMEOUT = 10.0
 PROGRESS_PREFIX = "sweep:"
@@ -73,6 +81,14 @@ class ProgressLine:
         self.stream.write(("\r" + text) if self.tty else (text + "\n"))
         self.stream.flush()
         self.shown = True
+
+    def say(self, text):
+        """One line of its own: how the sweep is run."""
+        if self.shown and self.tty:
+            self.stream.write("\n")
+            self.shown = False
+        self.stream.write(f"{PROGRESS_PREFIX} {text}\n")
+        self.stream.flush()
 
     def close(self):
         if self.shown and self.tty:
@@ -230,7 +246,8 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
               partition_count=None, rules=None, progress=None, clearance_body=None):
     """Load, sweep and summarise; returns (summary dict, the margins' histograms: {"thickness" |
     "position": (counts, bin edges)}). ``workers``: the local cluster's worker processes
-    (default: this machine's cores; 0: no Dask, in this process);
+    (0: no Dask, in this process; default: this process while a pilot says that a cluster of
+    one worker a core would not pay for its start-up, ``cluster_pays``, else one a core);
     ``scheduler``: the address of an existing Dask scheduler instead. ``clearance_body``: what
     reduces a robot for a [clearance] report (layout -> core.sweep.clearance.StrokeBody:
     waferscan.robot.sweep_clearance.stroke_body, which the command passes; this package does
@@ -245,6 +262,17 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         raise InputError(tolerance_path, None, "[beam_tilt]: the INPUT's beam runs vertically")
     check_count(n, layout)
     body = _clearance_body(layout, tolerances, clearance_body)
+    if workers is None and scheduler is None:
+        cores = os.cpu_count() or 1
+        estimate = _in_process_seconds(layout, tolerances, n, seed, rules, body)
+        if not cluster_pays(estimate, cores):
+            if progress is not None and hasattr(progress, "say"):
+                progress.say(f"in this process: {n:,} layouts take about {estimate:.2f} s here, "
+                             f"less than a local cluster of {cores} workers needs to pay for its "
+                             f"start-up (--workers K to use one)")
+            workers = 0
+        else:
+            workers = cores
     if workers == 0 and scheduler is None:
         count = partition_count or 1
         return _sweep(layout, tolerances, n, seed, rules, count, None, progress, None, body)
@@ -276,6 +304,30 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def cluster_pays(seconds_in_process, workers):
+    """True when a local cluster of ``workers`` would finish a sweep that takes
+    ``seconds_in_process`` in this process sooner, its start-up included: when
+    seconds > CLUSTER_START_S x s / (s - 1), s = WORKER_EFFICIENCY x workers its speed-up. One
+    worker never pays."""
+    speedup = WORKER_EFFICIENCY * workers
+    if speedup <= 1.0:
+        return False
+    return seconds_in_process > CLUSTER_START_S * speedup / (speedup - 1.0)
+
+
+def _in_process_seconds(layout, tolerances, n, seed, rules, body):
+    """How long the sweep of ``n`` layouts would take in this process: a pilot of
+    PILOT_LAYOUTS of them (a separate seed; the pilot's results are dropped), timed and scaled.
+    A sweep no larger than the pilot is that fast anyway: 0."""
+    if n <= PILOT_LAYOUTS:
+        return 0.0
+    import time
+
+    start = time.perf_counter()
+    _sweep(layout, tolerances, PILOT_LAYOUTS, seed + 1, rules, 1, None, None, None, body)
+    return (time.perf_counter() - start) * n / PILOT_LAYOUTS
 
 
 def _kill_local_workers(cluster):
