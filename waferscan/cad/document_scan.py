@@ -120,19 +120,34 @@ def with_clearance(scene, result, body=None):
     return replace(result, clearance=report, warnings=result.warnings + report.warnings())
 
 
+_CONVERTED = []  # [(the carrier's shapes last converted, their placements, what they became)]
+
+
 def _carrier_solids(scene, layout):
     """The scanned carrier's solids in the world as the robot layer takes them, [(vertices,
     triangles, name)] (``carrier_shapes``): a solid of 6 faces and 8 corners goes as its
     corners, triangles None (the robot layer makes a box of a box's, else their hull); any other
-    is tessellated to 0.1 mm."""
+    is tessellated to 0.1 mm. Each scan reads the document afresh; the same solids as the last
+    time (OpenCASCADE's partners, the same geometry, at the same placements) give the same tuple
+    back without reading their corners again (1.3 ms of the paper's 2.5 ms scan)."""
+    shapes = carrier_shapes(scene, layout)
+    placements = [solid.Placement.Matrix.A for _, solid in shapes]
+    if _CONVERTED:
+        known, where, converted = _CONVERTED[0]
+        if len(known) == len(shapes) and where == placements and all(
+                name == old and solid.isPartner(before)
+                for (name, solid), (old, before) in zip(shapes, known)):
+            return converted
     solids = []
-    for name, solid in carrier_shapes(scene, layout):
+    for name, solid in shapes:
         if len(solid.Faces) == 6 and len(solid.Vertexes) == 8:
             solids.append(([(v.X, v.Y, v.Z) for v in solid.Vertexes], None, name))
         else:
             points, triangles = solid.tessellate(0.1)
             solids.append(([(v.x, v.y, v.z) for v in points], triangles, name))
-    return tuple(solids)
+    solids = tuple(solids)
+    _CONVERTED[:] = [(shapes, placements, solids)]
+    return solids
 
 
 def carrier_shapes(scene, layout):
