@@ -269,10 +269,14 @@ def cmd_layout(args):
 def cmd_crosscheck(args):
     from .cad.clearance_brep import clearance_dict, format_clearance
     from .cad.crosscheck import crosscheck
-    from .cad.layout_files import opened_layout
+    from .cad.layout_files import opened_layout, setting_error
+    from .core.scan.clearance import SweepBlocked
 
     with opened_layout(args.input) as doc:
-        check = crosscheck(doc)
+        try:
+            check = crosscheck(doc)
+        except SweepBlocked as exc:  # named by the line that asked for the sweep, as scan does
+            raise setting_error(exc.message, args.input, None, "scan", "sweep") from None
     if args.json:
         data = report.crosscheck_dict(check)
         data["clearance"] = clearance_dict(check.clearance)  # SPEC §15, issue 29

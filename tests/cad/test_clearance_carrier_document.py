@@ -15,6 +15,7 @@ from scenarios import PAPER
 from waferscan.cad import roles
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
+from waferscan.cad.reader import DocumentScene, read_layout
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan import clearance as core
 
@@ -116,5 +117,49 @@ def test_an_own_carrier_is_its_untagged_solids_named_by_label():
         assert least.obstacle == "FOUP Base" and least.part in ("emitter head", "receiver head")
         slack = core.CONTACT_RELATIVE * (1.0 + 3.0)
         assert -3.0 - 1e-6 <= least.distance <= -3.0 + slack and report.contacts == (least,)
+    finally:
+        App.closeDocument(doc.Name)
+
+
+def test_a_curved_solid_of_six_faces_and_eight_corners_is_measured_by_its_faces():
+    # An extrusion whose top edge is an arc through (50, 20): 6 faces and 8 corners, but not a
+    # box; the hull of its corners ends at y = 10, the solid at y = 20. A ball of 0.5 mm at
+    # (50, 18, 25) lies inside it: 2 mm under the arc (its tessellation within 0.1 mm).
+    import numpy as np
+    import Part
+
+    from waferscan.cad.document_scan import _carrier_solids
+    from waferscan.robot.clearance import carrier_obstacle
+
+    doc = App.newDocument("CarrierCurved")
+    try:
+        V = App.Vector
+        edges = [Part.LineSegment(V(0, 0, 0), V(100, 0, 0)).toShape(),
+                 Part.LineSegment(V(100, 0, 0), V(100, 10, 0)).toShape(),
+                 Part.Arc(V(100, 10, 0), V(50, 20, 0), V(0, 10, 0)).toShape(),
+                 Part.LineSegment(V(0, 10, 0), V(0, 0, 0)).toShape()]
+        solid = Part.Face(Part.Wire(edges)).extrude(V(0, 0, 50))
+        assert (len(solid.Faces), len(solid.Vertexes)) == (6, 8)
+        wall = doc.addObject("Part::Feature", "Wall")
+        wall.Shape = solid
+        doc.recompute()
+        roles.tag_carrier(wall, slot_count=2, pitch=10.0,
+                          slot_origin=App.Placement(V(50, 5, 10), App.Rotation()))
+        doc.recompute()
+        scene = DocumentScene.of(doc)
+        layout = read_layout(doc, scene)
+        ((vertices, triangles, name),) = _carrier_solids(scene, layout)
+        assert triangles is not None and name == "Wall"  # tessellated, not its corners
+        import coal
+
+        geometry, rotation, translation, inside = carrier_obstacle(vertices, triangles)
+        request, result = coal.DistanceRequest(), coal.DistanceResult()
+        distance = coal.distance(coal.Sphere(0.5),
+                                 coal.Transform3s(np.eye(3), np.array([50.0, 18.0, 25.0])),
+                                 geometry, coal.Transform3s(rotation, translation), request,
+                                 result)
+        if inside is not None:  # a mesh: its inside test gives the sign
+            distance = -distance if inside(np.array([50.0, 18.0, 25.0])) else distance
+        assert distance < 0.0
     finally:
         App.closeDocument(doc.Name)

@@ -24,7 +24,9 @@ def test_a_fast_scan_with_a_jab_says_it_made_none_and_what_a_slow_one_would_take
     notices = [w for w in fast_result.warnings if "only a slow scan" in w]
     assert notices == ["a jab and a sweep are set but only a slow scan (mode = slow) makes "
                        "them: this fast scan's beam stayed at the start pose, and the slow "
-                       "duration is what a slow scan with them would take"]
+                       "duration is what a slow scan with them would take at most (its "
+                       "sweeps turned all the way: a sweep stops short where the fork would "
+                       "come within clearance_min)"]
     assert not [w for w in slow_result.warnings if "only a slow scan" in w]
     only_jab = scan_layout(replace(fast, scan=replace(fast.scan, sweep=0.0)))
     assert any(w.startswith("a jab is set but only") for w in only_jab.warnings)

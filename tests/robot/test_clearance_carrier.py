@@ -81,15 +81,18 @@ def test_the_hand_built_carrier_is_the_drawn_one():
     np.testing.assert_allclose(bounds["LP1 slot 1 ledge_right"][0], [146.25, 317.5, 292.44])
 
 
-def test_boxes_are_coal_boxes_and_other_meshes_are_not():
-    for vertices, triangles, _ in (box([1, 2, 3], [4, 5, 6], "b"),
-                                   box([1, 2, 3], [4, 5, 6], "turned",
+@pytest.mark.parametrize("size", [(4, 5, 6), (4, 415, 290), (2, 3, 60), (1, 1, 10)])
+def test_boxes_are_coal_boxes_and_other_meshes_are_not(size):
+    # (4, 415, 290): a FOUP's wall, whose face diagonal (290.03) is shorter than its long side:
+    # a corner's nearest corners are then not along its edges.
+    for vertices, triangles, _ in (box([1, 2, 3], size, "b"),
+                                   box([1, 2, 3], size, "turned",
                                        coal.Quaternion(0.9, 0.1, 0.3, 0.2).normalized()
                                        .toRotationMatrix())):
         for given in (triangles, triangles[:, ::-1], None):  # inwards, or its corners only
             geometry, rotation, centre, inside = carrier_obstacle(vertices, given)
             assert isinstance(geometry, coal.Box) and inside is None
-            np.testing.assert_allclose(sorted(2.0 * geometry.halfSide), [4, 5, 6], atol=1e-9)
+            np.testing.assert_allclose(sorted(2.0 * geometry.halfSide), sorted(size), atol=1e-9)
             np.testing.assert_allclose(centre, vertices.mean(axis=0), atol=1e-9)
     wedge = np.array([[0, 0, 0], [10, 0, 0], [0, 10, 0], [0, 0, 5], [10, 0, 5], [0, 10, 5]],
                      float)

@@ -139,3 +139,36 @@ def test_reach_along_is_conservative_on_a_fine_scan_of_the_turn():
     assert 3.0 <= near[0] < 3.0 + core.TOLERANCE
     assert min(body.nearest(motion, reached * k / 400.0)[0] for k in range(401)) >= 3.0
     assert reached == pytest.approx(_angle_at_gap(3.0, 20.0), abs=1e-3)
+
+
+def _seated(layout):
+    from waferscan.core.scan.slow_scan import seated_wafer
+
+    carrier = layout.scanned_carrier
+    return replace(layout, wafers=tuple(seated_wafer(carrier, s)
+                                        for s in range(1, carrier.slot_count + 1)))
+
+
+def test_a_wafer_that_blocks_the_turn_is_a_contact_a_recipe_that_does_is_bad_input():
+    # slow_jab.toml at a 22 mm jab: a seated wafer leaves the tines' corners
+    # sqrt(70² + 138²) - 150 = 4.74 mm away, but slot 8's wafer, pushed 5 mm out, 0.296 mm:
+    # its pocket's sweep cannot turn under 1 mm. What is in the pocket is to blame, not the
+    # recipe: the sweep turns (0, 0), the jab's contact says why, and the scan is made.
+    layout = SLOW.with_scan(jab=22.0)
+    body = RobotBody(layout)
+    limits = core.turn_limits(body, 1.0, seated=lambda: RobotBody(_seated(layout)))
+    result = scan_layout(layout, turn_limits=limits)
+    slot8 = next(p for p in result.pockets if p.slot == 8)
+    assert slot8.reached == (0.0, 0.0) and slot8.shift is None
+    assert next(p for p in result.pockets if p.slot == 1).reached[1] > 1.0
+    assert any(w.startswith("slot 8: the sweep could not turn: before it turns the fork is "
+                            "already within clearance_min (1 mm)") for w in result.warnings)
+    report = clearance_for(layout, body, result.pockets)
+    jab8 = next(c for c in report.closest if c.motion.kind == core.JAB and c.motion.slot == 8)
+    assert jab8 in report.contacts and jab8.distance == pytest.approx(0.296, abs=1e-3)
+    assert result.slot_map.code[7] == "6"  # still read: protruding
+    # At 26.6 mm a seated wafer blocks the turn too (0.650 mm): the recipe is bad input.
+    deep = SLOW.with_scan(jab=26.6)
+    limits = core.turn_limits(RobotBody(deep), 1.0, seated=lambda: RobotBody(_seated(deep)))
+    with pytest.raises(core.SweepBlocked, match="cannot turn at slot 1"):
+        scan_layout(deep, turn_limits=limits)

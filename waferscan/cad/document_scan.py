@@ -65,10 +65,31 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
 
         body = clearance_body(scene, layout)
         if body is not None:
-            limits = turn_limits(body, layout.mapping.clearance_min)
+            limits = turn_limits(body, layout.mapping.clearance_min,
+                                 seated=lambda: clearance_body(scene, _seated(layout)))
     result = scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure,
                          turn_limits=limits)
+    if clearance and layout.scan.mode == "slow" and layout.scan.sweep > 0.0 and body is None:
+        from dataclasses import replace
+
+        from ..addon import missing_pinocchio_message
+
+        result = replace(result, warnings=result.warnings + (
+            f"the sweeps turned the whole ±{layout.scan.sweep:g}°, their clearance unchecked: "
+            f"{missing_pinocchio_message()}",))
     return with_clearance(scene, result, body) if clearance else result
+
+
+def _seated(layout):
+    """The layout with a wafer seated in every slot of its scanned carrier, and no other: what
+    a recipe is judged against."""
+    from dataclasses import replace
+
+    from ..core.scan.slow_scan import seated_wafer
+
+    carrier = layout.scanned_carrier
+    return replace(layout, wafers=tuple(seated_wafer(carrier, slot)
+                                        for slot in range(1, carrier.slot_count + 1)))
 
 
 def clearance_body(scene, layout):
@@ -125,9 +146,9 @@ _CONVERTED = []  # [(the carrier's shapes last converted, their placements, what
 
 def _carrier_solids(scene, layout):
     """The scanned carrier's solids in the world as the robot layer takes them, [(vertices,
-    triangles, name)] (``carrier_shapes``): a solid of 6 faces and 8 corners goes as its
+    triangles, name)] (``carrier_shapes``): a solid of 6 plane faces and 8 corners goes as its
     corners, triangles None (the robot layer makes a box of a box's, else their hull); any other
-    is tessellated to 0.1 mm. Each scan reads the document afresh; the same solids as the last
+    (a curved face bulges beyond its corners' hull) is tessellated to 0.1 mm. Each scan reads the document afresh; the same solids as the last
     time (OpenCASCADE's partners, the same geometry, at the same placements) give the same tuple
     back without reading their corners again (1.3 ms of the paper's 2.5 ms scan)."""
     shapes = carrier_shapes(scene, layout)
@@ -140,7 +161,8 @@ def _carrier_solids(scene, layout):
             return converted
     solids = []
     for name, solid in shapes:
-        if len(solid.Faces) == 6 and len(solid.Vertexes) == 8:
+        if len(solid.Faces) == 6 and len(solid.Vertexes) == 8 and all(
+                type(face.Surface).__name__ == "Plane" for face in solid.Faces):
             solids.append(([(v.X, v.Y, v.Z) for v in solid.Vertexes], None, name))
         else:
             points, triangles = solid.tessellate(0.1)

@@ -159,16 +159,19 @@ class PocketAnimation(QtCore.QObject):
                 self.fork.release()
             self.finished.emit()
             return
-        try:
-            if self.fork is not None:
-                self.fork.restore()
-            previews.show(self.doc)
-            self.arm.restore()
-            self._colour(BEAM_CLEAR)
-            for view, value in self._restore_view:
-                view.Transparency = value
-        except Exception as exc:  # the document changed under the animation
-            App.Console.PrintError(f"WaferScan: pocket animation: {exc}\n")
+        # Each put back on its own: one that fails (its object deleted under the animation)
+        # leaves the others to be put back.
+        steps = [lambda: previews.show(self.doc), self.arm.restore,
+                 lambda: self._colour(BEAM_CLEAR)]
+        steps += [lambda view=view, value=value: setattr(view, "Transparency", value)
+                  for view, value in self._restore_view]
+        if self.fork is not None:
+            steps.append(self.fork.restore)
+        for step in steps:
+            try:
+                step()
+            except Exception as exc:  # the document changed under the animation
+                App.Console.PrintError(f"WaferScan: pocket animation: {exc}\n")
         self.finished.emit()
 
     def show(self, index):

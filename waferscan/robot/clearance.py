@@ -206,11 +206,19 @@ def _corners_box(points):
         return None
     edges = points[1:] - points[0]
     lengths = np.linalg.norm(edges, axis=1)
-    order = np.argsort(lengths)[:3]  # a corner's three nearest corners lie along its edges
-    axes = edges[order] / lengths[order, None]
-    if lengths[order[0]] <= 0.0 or abs(axes[0] @ axes[1]) > 1e-9 or \
-            abs(axes[0] @ axes[2]) > 1e-9 or abs(axes[1] @ axes[2]) > 1e-9:
+    if lengths.min() <= 0.0:
         return None
+    # A corner's three edges are the three of its seven lines to the others that are square to
+    # each other (its nearest corners are not: a long, thin box's face diagonal is shorter than
+    # its long side).
+    units = edges / lengths[:, None]
+    square = np.abs(units @ units.T) <= 1e-9
+    order = next(((i, j, k) for i in range(7) for j in range(i + 1, 7) for k in range(j + 1, 7)
+                  if square[i, j] and square[i, k] and square[j, k]), None)
+    if order is None:
+        return None
+    order = list(order)
+    axes = units[order]
     rotation = np.column_stack([axes[0], axes[1], np.cross(axes[0], axes[1])])
     local = (points - points[0]) @ rotation
     low, high = local.min(axis=0), local.max(axis=0)

@@ -312,11 +312,28 @@ def sweep_reach(body, slot, z, advance, amplitude, clearance_min, tolerance=TOLE
     return tuple(0.0 if r is None else r for r, _ in reached)
 
 
-def turn_limits(body, clearance_min, tolerance=TOLERANCE):
+def turn_limits(body, clearance_min, tolerance=TOLERANCE, seated=None):
     """``turn_limits(slot, z, depth, amplitude)`` for ``scan_layout``: each pocket's sweep
-    stopped by ``body``'s clearance (``sweep_reach``)."""
+    stopped by ``body``'s clearance (``sweep_reach``). A pocket where it cannot turn at all is
+    bad input (SweepBlocked) when the recipe is to blame: when the sweep could not turn with a
+    wafer seated in the pocket either (``seated()``: the body with the carrier's slots holding
+    seated wafers, made when first needed). Otherwise what is in the pocket stops it (a wafer
+    pushed out or shifted: the jab's and the steps' contact says so): it turns (0, 0)."""
+    nominal = []
+
     def limits(slot, z, depth, amplitude):
-        return sweep_reach(body, slot, z, depth, amplitude, clearance_min, tolerance)
+        try:
+            return sweep_reach(body, slot, z, depth, amplitude, clearance_min, tolerance)
+        except SweepBlocked as blocked:
+            if seated is None:
+                raise
+            if not nominal:
+                nominal.append(seated())
+            try:
+                sweep_reach(nominal[0], slot, z, depth, amplitude, clearance_min, tolerance)
+            except SweepBlocked:
+                raise blocked from None
+            return (0.0, 0.0)
 
     return limits
 

@@ -542,8 +542,9 @@ def probe_pocket(layout, slot, z, measure=None, turn_limits=None):
                       if scan.sweep > 0.0 else None)
     shift = None
     # A sweep blocked at an end of its turn has no edge there: no shift is read from it.
-    at_end = sweep is not None and any(abs(a - b) <= SWEEP_TOLERANCE_DEG
-                                       for a, b in zip(sweep, turn_bounds(reached)))
+    at_end = any(found is not None and any(abs(a - b) <= SWEEP_TOLERANCE_DEG
+                                           for a, b in zip(found, turn_bounds(reached)))
+                 for found in (sweep, expected_sweep))
     if sweep is not None and expected_sweep is not None and not at_end:
         shift = _sideways_shift(layout, z, depth, carrier, slot,
                                 0.5 * (sweep[0] + sweep[1])
@@ -596,7 +597,13 @@ def judge(layout, plan, probes):
             elif p.front is not None and p.front <= 0.0 \
                     and p.expected_front <= plan.protrusion_limit + LIMIT_SLACK:
                 blind.append(p.slot)
-        if p.sweep is not None and scan.sweep > 0.0:
+        if scan.sweep > 0.0 and p.reached == (0.0, 0.0):
+            warnings.append(f"slot {p.slot}: the sweep could not turn: before it turns the "
+                            f"fork is already within clearance_min "
+                            f"({layout.mapping.clearance_min:g} mm) of what is in the pocket "
+                            f"(a seated wafer would leave it room), so no position is judged "
+                            f"from it")
+        elif p.sweep is not None and scan.sweep > 0.0:
             low, high = p.reached or (-scan.sweep, scan.sweep)
             ends = [a for a, end in zip(p.sweep, (low, high))
                     if abs(a - end) <= SWEEP_TOLERANCE_DEG]
@@ -712,7 +719,9 @@ def slow_fast_notice(scan):
     asked = " and ".join(w for w, v in (("a jab", scan.jab), ("a sweep", scan.sweep)) if v > 0)
     return (f"{asked} {'are' if ' and ' in asked else 'is'} set but only a slow scan "
             f"(mode = slow) makes them: this fast scan's beam stayed at the start pose, and the "
-            f"slow duration is what a slow scan with them would take")
+            f"slow duration is what a slow scan with them would take"
+            + (" at most (its sweeps turned all the way: a sweep stops short where the fork "
+               "would come within clearance_min)" if scan.sweep > 0.0 else ""))
 
 
 def slow_duration(scan, plan, probes=()):
