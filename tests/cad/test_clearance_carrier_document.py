@@ -15,7 +15,7 @@ from scenarios import PAPER
 from waferscan.cad import roles
 from waferscan.cad.builder import build_document
 from waferscan.cad.document_scan import scan_document
-from waferscan.cad.reader import DocumentScene, read_layout
+from waferscan.cad.reader import DocumentScene
 from waferscan.core.files.scenario import read_scenario
 from waferscan.core.scan import clearance as core
 
@@ -146,8 +146,12 @@ def test_a_curved_solid_of_six_faces_and_eight_corners_is_measured_by_its_faces(
         roles.tag_carrier(wall, slot_count=2, pitch=10.0,
                           slot_origin=App.Placement(V(50, 5, 10), App.Rotation()))
         doc.recompute()
-        scene = DocumentScene.of(doc)
-        layout = read_layout(doc, scene)
+        from types import SimpleNamespace
+
+        from waferscan.cad.reader import carrier_from
+
+        scene = DocumentScene.of(doc)  # a carrier alone: no scanner, so no layout to read
+        layout = SimpleNamespace(carrier=carrier_from(scene.carriers[0]).name)
         ((vertices, triangles, name),) = _carrier_solids(scene, layout)
         assert triangles is not None and name == "Wall"  # tessellated, not its corners
         import coal
