@@ -289,6 +289,11 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         # reconnection attempts log tracebacks meanwhile, which are not the user's news.
         _silence_dask_logs()
         workers = max(1, len(client.scheduler_info().get("workers", {})))
+        threads = tune_workers(client)
+        if progress is not None and hasattr(progress, "say") and threads:
+            said = threaded_workers_note(threads, scheduler)
+            if said:
+                progress.say(said)
     try:
         count = partition_count or workers * PARTITIONS_PER_WORKER
         return _sweep(layout, tolerances, n, seed, rules, count, client, progress, scheduler,
@@ -304,6 +309,48 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def tune_workers(client):
+    """What ``local_cluster`` gives its workers, given to an existing cluster's where it can be
+    set while they run: Dask's statistical profiler stopped, and glibc's trim and mmap
+    thresholds raised (32 MiB, the most its own adaptive mmap threshold reaches) so that a
+    block's numpy temporaries are not handed back to the system and faulted in again (the
+    low MALLOC_TRIM_THRESHOLD_ Dask's nannies set). Returns {worker: threads}: threads a worker
+    cannot be given fewer of once started (``threaded_workers_note``)."""
+    def tune(dask_worker):
+        for name in ("profile", "profile-cycle"):
+            callback = dask_worker.periodic_callbacks.get(name)
+            if callback is not None:
+                callback.stop()
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL("libc.so.6")
+            libc.mallopt(-1, 64 * 1024 * 1024)  # M_TRIM_THRESHOLD
+            libc.mallopt(-3, 32 * 1024 * 1024)  # M_MMAP_THRESHOLD
+        except (OSError, AttributeError):
+            pass  # not glibc: nothing to set
+        return dask_worker.state.nthreads
+
+    try:
+        return client.run(tune)
+    except Exception:  # noqa: BLE001 (a worker refusing it: the sweep runs as the cluster is)
+        return {}
+
+
+def threaded_workers_note(threads, address):
+    """A line when the cluster's workers run more than one thread each, else None: a sweep's
+    partitions are mostly Python holding the GIL, so two threads of one process sweep little
+    faster than one, where WaferScan's own LocalCluster runs one single-threaded process a core
+    (docs/performance.md gives what each setting costs)."""
+    many = sorted({n for n in threads.values() if n > 1})
+    if not many:
+        return None
+    counts = "/".join(map(str, many))
+    return (f"{address}'s workers run {counts} threads each: a sweep holds Python's GIL, so "
+            f"one single-threaded process a core is faster (dask worker {address} --nworkers "
+            f"K --nthreads 1, as waferscan's own cluster runs)")
 
 
 def cluster_pays(seconds_in_process, workers):
