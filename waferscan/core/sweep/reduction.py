@@ -122,22 +122,65 @@ def _bounds(kind, candidates):
     return cum[starts_below], cum[ends_within]
 
 
+def _steps(kind):
+    """One partition's digest as the steps of its two bounds (``_bounds``): ((values, steps) by
+    which "how many margins lie below v, at most" rises as v passes each value, (values, steps)
+    by which "how many lie at or below v, at least" rises as v reaches each)."""
+    import numpy as np
+
+    count = kind["count"]
+    if "samples" in kind:
+        sample, stride = np.asarray(kind["samples"], dtype=float), kind["stride"]
+        # Below v at most k * stride (k samples below v), all of them past the last sample;
+        # at or below v at least (k - 1) * stride + 1 (k samples up to v), 0 before the first.
+        most = np.full(len(sample), stride, dtype=np.int64)
+        most[-1] = count - (len(sample) - 1) * stride
+        least = np.full(len(sample), stride, dtype=np.int64)
+        least[0] = 1
+        return (sample, most), (sample, least)
+    if "values" in kind:
+        values = np.asarray(kind["values"], dtype=float)
+        counts = np.asarray(kind["counts"], dtype=np.int64)
+        return (values, counts), (values, counts)
+    # A histogram of order keys: a bin counts below v (at most) once v passes its first key,
+    # at or below v (at least) once v reaches its last.
+    bins = np.asarray(kind["bins"]).astype(np.uint64)
+    counts = np.asarray(kind["bin_counts"], dtype=np.int64)
+    starts = np.array([key_value(k) for k in bins << np.uint64(COARSE_SHIFT)], dtype=float)
+    ends = np.array([key_value(k) for k in ((bins + np.uint64(1)) << np.uint64(COARSE_SHIFT))
+                     - np.uint64(1)], dtype=float)
+    return (starts, counts), (ends, counts)
+
+
+def _summed(pieces, candidates, side):
+    """The sum over the partitions of a bound at each candidate: every partition's steps
+    merged into one sorted list and added up once (O(candidates log candidates), however many
+    partitions), instead of each partition's bound looked up at every candidate (O(partitions
+    x candidates): 7.2 s a kind of margin for 10 M layouts over 400 partitions)."""
+    import numpy as np
+
+    values = np.concatenate([v for v, _ in pieces])
+    steps = np.concatenate([c for _, c in pieces])
+    order = np.argsort(values, kind="stable")
+    values = values[order]
+    total = np.concatenate([[0], np.cumsum(steps[order])])
+    return total[np.searchsorted(values, candidates, side=side)]
+
+
 def _brackets(digests, key, ranks):
     """For each 0-based rank r of the margins ``key`` of every partition together, values
     (low, high) with low <= the r-th smallest <= high, from the partitions' digests, within
-    the margins' smallest and largest."""
+    the margins' smallest and largest. The bounds are ``_bounds``' summed over the partitions
+    (``_summed``: the same integers)."""
     import numpy as np
 
     kinds = [d["margins"][key] for d in digests if d["margins"][key]["count"]]
     smallest = min(kind["min"] for kind in kinds)
     largest = max(kind["max"] for kind in kinds)
     candidates = np.unique(np.concatenate([_candidates(kind) for kind in kinds]))
-    below_at_most = np.zeros(len(candidates), dtype=np.int64)   # margins < v, at most
-    up_to_at_least = np.zeros(len(candidates), dtype=np.int64)  # margins <= v, at least
-    for kind in kinds:
-        most, least = _bounds(kind, candidates)
-        below_at_most += most
-        up_to_at_least += least
+    steps = [_steps(kind) for kind in kinds]
+    below_at_most = _summed([most for most, _ in steps], candidates, "left")   # margins < v
+    up_to_at_least = _summed([least for _, least in steps], candidates, "right")  # <= v
     out = []
     for r in ranks:
         i = int(np.searchsorted(below_at_most, r, side="right")) - 1

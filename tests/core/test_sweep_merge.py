@@ -1,0 +1,84 @@
+"""Issue 30, SPEC §9: the client's merge of a sweep's partitions is O(candidates), not
+O(partitions x candidates). Each partition's bounds at every candidate (``_bounds``, the old
+way) summed over the partitions equal the partitions' steps merged once (``_summed``), integer
+for integer, for all three kinds of digest; the brackets are the same ones."""
+
+import time
+
+import numpy as np
+import pytest
+
+from waferscan.core.sweep import reduction
+from waferscan.core.sweep.margins import COARSE_SHIFT, order_keys
+
+
+def _samples(rng, count, stride):
+    values = np.sort(np.round(rng.normal(0.2, 0.05, count), 3))  # readings repeat: ties
+    return {"count": count, "stride": stride, "samples": values[::stride].copy(),
+            "min": float(values[0]), "max": float(values[-1])}
+
+
+def _values(rng, count):
+    values, counts = np.unique(np.round(rng.normal(0.2, 0.05, count), 2), return_counts=True)
+    return {"count": count, "values": values, "counts": counts, "min": float(values[0]),
+            "max": float(values[-1])}
+
+
+def _bins(rng, count):
+    values = rng.normal(0.2, 0.05, count)
+    bins, counts = np.unique((order_keys(values) >> np.uint64(COARSE_SHIFT)).astype(np.int64),
+                             return_counts=True)
+    return {"count": count, "bins": bins, "bin_counts": counts, "min": float(values.min()),
+            "max": float(values.max())}
+
+
+def _old_brackets(kinds, ranks):
+    """reduction._brackets as it was: every partition's bounds at every candidate."""
+    candidates = np.unique(np.concatenate([reduction._candidates(k) for k in kinds]))
+    most = sum(reduction._bounds(k, candidates)[0] for k in kinds)
+    least = sum(reduction._bounds(k, candidates)[1] for k in kinds)
+    return candidates, most, least
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_merged_steps_are_the_summed_bounds_for_every_kind_of_digest(seed):
+    rng = np.random.default_rng(seed)
+    kinds = ([_samples(rng, int(rng.integers(1, 3000)), int(rng.choice([1, 7, 256])))
+              for _ in range(6)] + [_values(rng, int(rng.integers(1, 3000))) for _ in range(3)]
+             + [_bins(rng, int(rng.integers(1, 3000))) for _ in range(3)])
+    candidates, most, least = _old_brackets(kinds, [])
+    steps = [reduction._steps(k) for k in kinds]
+    assert np.array_equal(reduction._summed([m for m, _ in steps], candidates, "left"), most)
+    assert np.array_equal(reduction._summed([s for _, s in steps], candidates, "right"), least)
+    total = sum(k["count"] for k in kinds)
+    ranks = sorted({0, total - 1, total // 2, *rng.integers(0, total, 20).tolist()})
+    digests = [{"margins": {"m": k}} for k in kinds]
+    new = reduction._brackets(digests, "m", ranks)
+    for r, (low, high) in zip(ranks, new):
+        i = int(np.searchsorted(most, r, side="right")) - 1
+        j = int(np.searchsorted(least, r + 1, side="left"))
+        smallest = min(k["min"] for k in kinds)
+        largest = max(k["max"] for k in kinds)
+        assert low == max(float(candidates[i]) if i >= 0 else -np.inf, smallest)
+        assert high == min(float(candidates[j]) if j < len(candidates) else np.inf, largest)
+
+
+def test_a_thousand_partitions_of_a_hundred_million_layouts_merge(capsys):
+    # Synthetic digests as a sweep of 10^8 layouts in 1,000 partitions sends them: 10^5
+    # margins each, every 256th as a sample (391 a partition). The figure is printed, not
+    # judged here (the bench times it: docs/performance.md).
+    rng = np.random.default_rng(1)
+    count, stride = 100_000, 256
+    kinds = []
+    for _ in range(1000):
+        samples = np.sort(rng.normal(0.2, 0.05, count // stride + 1))
+        kinds.append({"count": count, "stride": stride, "samples": samples,
+                      "min": float(samples[0]), "max": float(samples[-1])})
+    digests = [{"margins": {"m": k}} for k in kinds]
+    ranks = [0, 10**6, 5 * 10**7, 10**8 - 1]
+    start = time.perf_counter()
+    brackets = reduction._brackets(digests, "m", ranks)
+    took = time.perf_counter() - start
+    with capsys.disabled():
+        print(f"\n1,000 partitions of 10^8 layouts: brackets of one kind in {took:.3f} s")
+    assert all(low <= high for low, high in brackets)
