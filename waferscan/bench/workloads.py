@@ -332,6 +332,36 @@ def _stroke_body(paper):
     return stroke_body(paper)
 
 
+def merge_seconds(rounds, partitions=1000, layouts=100_000_000, kinds=2):
+    """SPEC §9: the median seconds of the client's merge of ``partitions`` digests of a sweep
+    of ``layouts`` (synthetic: each partition's margins every DIGEST_STRIDE-th one of a normal
+    draw, as a partition's digest holds them), for ``kinds`` kinds of margin: the brackets of
+    the summary's order statistics, the part of the merge that grows with the partitions."""
+    import numpy as np
+
+    from ..core.sweep import reduction
+
+    rng = np.random.default_rng(0)
+    each = layouts // partitions
+    digests = []
+    for _ in range(partitions):
+        margins = {}
+        for k in range(kinds):
+            samples = np.sort(rng.normal(0.2, 0.05, each // reduction.DIGEST_STRIDE + 1))
+            margins[f"kind {k}"] = {"count": each, "stride": reduction.DIGEST_STRIDE,
+                                    "samples": samples, "min": float(samples[0]),
+                                    "max": float(samples[-1])}
+        digests.append({"margins": margins})
+    ranks = [0, layouts // 100, layouts // 2, layouts - 1]
+    taken = []
+    for _ in range(max(3, rounds)):
+        start = time.perf_counter()
+        for key in digests[0]["margins"]:
+            reduction._brackets(digests, key, ranks)
+        taken.append(time.perf_counter() - start)
+    return float(np.median(taken))
+
+
 def bench_sweep(paper, rounds, add, quick=False):
     """SPEC §9 / §12: sampled layouts a minute of a sweep of the paper's 25-slot FOUP under
     resources/examples/fab_tolerances.toml (seat, thickness, protrusion, beam height and tilt,
@@ -369,7 +399,7 @@ def bench_sweep(paper, rounds, add, quick=False):
             paper, contact, n_ideal, seed=1, clearance_body=body)
         measured.append(("contact rate, in process", n_ideal, paper))
     times, results = interleaved(tasks, max(1, rounds // 3))
-    rates = {}
+    rates = {"merge of 1,000 partitions (s)": merge_seconds(rounds)}
     for name, n, layout in measured:
         rates[name] = per_minute(n, times[name])
         add(row("sweep", name, layout, times[name], layouts=n,
