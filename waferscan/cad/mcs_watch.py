@@ -20,6 +20,7 @@ from pathlib import Path
 import FreeCAD as App
 
 from ..core.errors import InputError
+from ..core.files.folder_watch import FolderWatch
 from ..core.files.mcs import COMMANDS, PARAMETERS, Parameters, parse_parameters
 from ..core.files.mcs_link import (
     LockLost,
@@ -166,6 +167,7 @@ def _calibrated(doc, cache, parameters, engine, should_stop):
 
 
 LAYOUT_CHECK_SECONDS = 1.0  # how often the layout file is checked for a change
+WATCHED_POLL = 1.0  # s: how often a watched folder is read when nothing woke the link
 
 
 def _file_signature(path):
@@ -220,12 +222,16 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False, stoppin
     if stopping is None:
         stopping = StopFlag()
         handled = stop_on_signals(stopping)
+    woken = None
     try:
         if once:
             link.poll(stop=stopping.is_set)
             # the fault (unwritten answers, a folder that cannot be locked) is on stderr
             return 1 if link.unanswered or not link.locked else 0
-        out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}); Ctrl-C to stop")
+        woken = FolderWatch(folder)
+        how = ("woken by each change (inotify)" if woken.active else
+               f"read every {poll:g} s ({woken.reason})")
+        out(f"watching {Path(folder) / COMMANDS} (layout {layout_path}), {how}; Ctrl-C to stop")
         checked = time.monotonic()
         faults = set()
         while not stopping.is_set():
@@ -238,7 +244,11 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False, stoppin
                     faults.add(repr(exc))
                     err(f"internal error, still watching\n{traceback.format_exc().rstrip()}")
                 stopping.wait(max(poll, 1.0))
-            if stopping.wait(poll):
+            # A change wakes the link at once; it reads the folder at least once a
+            # WATCHED_POLL all the same. Without a watch (or while a removed folder is away):
+            # every ``poll`` seconds, as before.
+            woken.wait(WATCHED_POLL if woken.active else poll, stopping)
+            if stopping.is_set():
                 break
             if time.monotonic() - checked >= LAYOUT_CHECK_SECONDS:
                 checked = time.monotonic()
@@ -270,6 +280,8 @@ def watch(folder, layout_path, engine="analytic", poll=0.01, once=False, stoppin
         # Everything closed while a further Ctrl-C still only sets the flag; the handlers
         # given back last.
         try:
+            if woken is not None:
+                woken.close()
             link.close()
             scanner.close()
             if doc is not None:
