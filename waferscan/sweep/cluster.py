@@ -268,8 +268,9 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
         if not cluster_pays(estimate, cores):
             if progress is not None and hasattr(progress, "say"):
                 progress.say(f"in this process: {n:,} layouts take about {estimate:.2f} s here, "
-                             f"less than a local cluster of {cores} workers needs to pay for its "
-                             f"start-up (--workers K to use one)")
+                             f"less than a local cluster of {cores} worker"
+                             f"{'' if cores == 1 else 's'} needs to pay for its start-up "
+                             f"(--workers K to use one)")
             workers = 0
         else:
             workers = cores
