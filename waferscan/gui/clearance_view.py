@@ -162,6 +162,9 @@ class ForkColour:
         for view, shape, diffuse in self.saved:
             if self.red:
                 view.ShapeColor = FORK_CONTACT
+                # FreeCAD 1.0 keeps a link's per-face colours over its ShapeColor (its
+                # ShapeAppearance): the whole shape red, face by face too.
+                view.DiffuseColor = [(*FORK_CONTACT, 0.0)]
             else:
                 view.ShapeColor = shape
                 view.DiffuseColor = diffuse
