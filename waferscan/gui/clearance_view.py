@@ -150,7 +150,9 @@ class ForkColour:
         self.saved = []
         for obj in fork_objects(doc):
             view = getattr(obj, "ViewObject", None)
-            if view is not None and "ShapeColor" in view.PropertiesList:
+            # FreeCAD 1.0 lists ShapeAppearance, not ShapeColor and DiffuseColor, among the
+            # properties; both are still there to read and set.
+            if view is not None and hasattr(view, "ShapeColor"):
                 self.saved.append((view, tuple(view.ShapeColor), list(view.DiffuseColor)))
         self.red = False
 

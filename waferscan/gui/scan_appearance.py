@@ -43,7 +43,9 @@ class ScanAppearance:
             self.overlay = BeamOverlay(self.beam)
         for obj, prop, value in changes:
             view = obj.ViewObject
-            if view is not None and prop in view.PropertiesList:
+            # hasattr: FreeCAD 1.0 lists ShapeAppearance, not ShapeColor, among the properties
+            # (the beam's colour was not put back after a scan there).
+            if view is not None and hasattr(view, prop):
                 self.saved_properties.append((view, prop, getattr(view, prop)))
                 if value is not None:
                     setattr(view, prop, value)
