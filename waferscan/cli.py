@@ -530,7 +530,10 @@ def build_parser():
     where.add_argument("--workers", type=_not_negative, metavar="K",
                        help="local Dask worker processes (default: one per core; 0: no Dask)")
     where.add_argument("--scheduler", metavar="ADDR", help="an existing Dask scheduler, "
-                                                           "e.g. tcp://HOST:8786")
+                                                           "e.g. tcp://HOST:8786 (its workers' "
+                                                           "profiler is stopped and their "
+                                                           "malloc trimming raised, for as "
+                                                           "long as they run)")
     sweep.add_argument("--partitions", type=_at_least_one, metavar="P",
                        help="how many tasks the layouts are split into (default: 4 a worker; "
                             "the results do not depend on it)")

@@ -55,3 +55,33 @@ def test_a_stepper_runs_with_the_collector(seen):
     gc.enable()
     layout_scan.scan_layout(LAYOUT, stepper=lambda lay, progress: run_engine("analytic", lay))
     assert seen == [True]
+
+
+def test_scans_in_threads_that_overlap_give_the_collector_back():
+    # Thread A enters, B enters, A leaves, B leaves (and the other way round): the collector
+    # is on after the last, however they interleave (a Dask worker of several threads).
+    import threading
+
+    gc.enable()
+    a_in, b_in, a_out = threading.Event(), threading.Event(), threading.Event()
+    inside_b = []
+
+    def a():
+        with layout_scan.collector_paused():
+            a_in.set()
+            b_in.wait(10)
+        a_out.set()
+
+    def b():
+        a_in.wait(10)
+        with layout_scan.collector_paused():
+            b_in.set()
+            a_out.wait(10)
+            inside_b.append(gc.isenabled())  # A has left; B's pause still holds
+
+    threads = [threading.Thread(target=a), threading.Thread(target=b)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(20)
+    assert inside_b == [False] and gc.isenabled()

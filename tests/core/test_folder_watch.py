@@ -108,3 +108,26 @@ def test_without_inotify_the_wait_is_a_plain_one(tmp_path, monkeypatch):
     watch = FolderWatch(tmp_path)
     assert not watch.active and watch.reason == "this system has no inotify"
     assert watch.wait(0.1, StopFlag()) is False
+
+
+def test_a_folder_moved_aside_and_made_again_is_watched_not_spun_on(tmp_path):
+    # The kernel's IN_IGNORED for the watch removed when the folder moved away arrives after
+    # the new folder's watch was made: it must not take that one away too (a wait that
+    # returned True at once, for ever, after such a move: a watcher spinning on a core).
+    folder = tmp_path / "mcs"
+    folder.mkdir()
+    watch = FolderWatch(folder)
+    if not watch.active:
+        pytest.skip(f"no inotify here: {watch.reason}")
+    try:
+        folder.rename(tmp_path / "mcs.old")
+        assert watch.wait(LONG, StopFlag()) is True and not watch.active
+        folder.mkdir()
+        assert watch.wait(LONG, StopFlag()) is True and watch.active  # back: read now
+        woken = [watch.wait(0.2, StopFlag()) for _ in range(3)]
+        assert watch.active and woken.count(False) >= 2, woken  # nothing changed: waits run out
+        thread = later(lambda: (folder / "commands.txt").write_text("1 SCF\n"))
+        assert watch.wait(LONG, StopFlag()) is True  # and a change still wakes it
+        thread.join()
+    finally:
+        watch.close()

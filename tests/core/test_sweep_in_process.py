@@ -92,3 +92,25 @@ def test_the_command_says_where_it_ran_and_gives_the_same_summary():
                               timeout=300)
     assert "in this process:" not in explicit.stderr  # asked for: nothing to explain
     assert json.loads(default.stdout) == json.loads(explicit.stdout)
+
+
+def test_one_core_runs_in_this_process_without_a_pilot(watched):
+    watched.setattr(cluster.os, "cpu_count", lambda: 1)
+
+    def pilot(*args):
+        raise AssertionError("no pilot where a cluster never pays")
+
+    watched.setattr(cluster, "_in_process_seconds", pilot)
+    said = []
+
+    class Progress:
+        def __call__(self, done, total, layouts=None):
+            pass
+
+        def say(self, text):
+            said.append(text)
+
+    summary, _ = cluster.run(PAPER, TOLERANCES, 2000, seed=4, progress=Progress())
+    assert summary == cluster.run(PAPER, TOLERANCES, 2000, seed=4, workers=0)[0]
+    assert said == ["in this process: one core, where a local cluster never pays for its "
+                    "start-up (--workers K to use one)"]

@@ -165,8 +165,10 @@ class ForkColour:
             if self.red:
                 view.ShapeColor = FORK_CONTACT
                 # FreeCAD 1.0 keeps a link's per-face colours over its ShapeColor (its
-                # ShapeAppearance): the whole shape red, face by face too.
-                view.DiffuseColor = [(*FORK_CONTACT, 0.0)]
+                # ShapeAppearance): the whole shape red, face by face too. The fourth value is
+                # the fork's own (a transparency in 0.20 and 1.0.0, an alpha in later ones).
+                fourth = diffuse[0][3] if diffuse and len(diffuse[0]) > 3 else 0.0
+                view.DiffuseColor = [(*FORK_CONTACT, fourth)]
             else:
                 view.ShapeColor = shape
                 view.DiffuseColor = diffuse

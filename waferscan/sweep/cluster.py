@@ -264,13 +264,17 @@ def run(input_path, tolerance_path, n, seed=0, workers=None, scheduler=None,
     body = _clearance_body(layout, tolerances, clearance_body)
     if workers is None and scheduler is None:
         cores = os.cpu_count() or 1
-        estimate = _in_process_seconds(layout, tolerances, n, seed, rules, body)
-        if not cluster_pays(estimate, cores):
+        # One core: a cluster never pays (cluster_pays), and no pilot is needed to say so.
+        estimate = (_in_process_seconds(layout, tolerances, n, seed, rules, body)
+                    if cluster_pays(float("inf"), cores) else None)
+        if estimate is None or not cluster_pays(estimate, cores):
             if progress is not None and hasattr(progress, "say"):
-                progress.say(f"in this process: {n:,} layouts take about {estimate:.2f} s here, "
-                             f"less than a local cluster of {cores} worker"
-                             f"{'' if cores == 1 else 's'} needs to pay for its start-up "
-                             f"(--workers K to use one)")
+                progress.say(
+                    "in this process: one core, where a local cluster never pays for its "
+                    "start-up (--workers K to use one)" if estimate is None else
+                    f"in this process: {n:,} layouts take about {estimate:.2f} s here, less "
+                    f"than a local cluster of {cores} workers needs to pay for its start-up "
+                    f"(--workers K to use one)")
             workers = 0
         else:
             workers = cores

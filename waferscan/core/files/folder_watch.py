@@ -16,6 +16,7 @@ import ctypes
 import ctypes.util
 import os
 import select
+import struct
 import time
 
 IN_MODIFY = 0x00000002
@@ -33,10 +34,12 @@ IN_CLOEXEC = 0o2000000
 MASK = (IN_MODIFY | IN_ATTRIB | IN_CLOSE_WRITE | IN_MOVED_FROM | IN_MOVED_TO | IN_CREATE
         | IN_DELETE | IN_DELETE_SELF | IN_MOVE_SELF)
 STOP_SLICE = 0.05  # s: how often a wait looks at the stop flag (a signal handler only sets it)
+EVENT = struct.Struct("=iIII")  # struct inotify_event: wd, mask, cookie, len (then the name)
 # Filesystems whose changes may come from another machine, which inotify does not see.
 REMOTE = {"nfs", "nfs4", "cifs", "smb3", "smbfs", "ncpfs", "afs", "9p", "ceph", "glusterfs",
           "lustre", "gpfs", "beegfs", "davfs", "sshfs", "fuse.sshfs", "fuse.rclone",
-          "fuse.s3fs", "fuse.glusterfs", "fuse.cephfs"}
+          "fuse.s3fs", "fuse.glusterfs", "fuse.cephfs", "fuse.gcsfuse", "fuse.davfs",
+          "fuse.juicefs", "fuse.lizardfs", "fuse.moosefs"}
 
 
 def _unescaped(field):
@@ -90,7 +93,7 @@ class FolderWatch:
         libc = _libc()
         if libc is None:
             self.reason = "this system has no inotify"
-        elif kind is None or kind in REMOTE or kind.startswith("fuse"):
+        elif kind is None or kind in REMOTE:
             self.reason = (f"the folder is on a {kind} filesystem, whose changes from other "
                            f"machines inotify does not see" if kind else
                            "the folder's filesystem cannot be told")
@@ -100,6 +103,8 @@ class FolderWatch:
                 self.reason = f"inotify: {os.strerror(ctypes.get_errno())}"
             else:
                 self.fd, self._libc = fd, libc
+                self._poller = select.poll()  # (select.select cannot take an fd over 1023)
+                self._poller.register(fd, select.POLLIN)
                 self._add()
                 if self.watch < 0:
                     self.reason = f"inotify cannot watch it: {os.strerror(ctypes.get_errno())}"
@@ -114,22 +119,24 @@ class FolderWatch:
         self.watch = watch if watch >= 0 else -1
 
     def _drain(self):
-        """Read the events waiting; True when the watch itself is gone (the folder removed)."""
-        gone = False
+        """Read the events waiting: (whether this watch's folder went away, whether the kernel
+        already dropped the watch). Events of a watch removed before (a folder moved away and
+        made again gets a new one) are read and let be."""
+        gone = dropped = False
         while True:
             try:
                 data = os.read(self.fd, 65536)
             except BlockingIOError:
-                return gone
+                return gone, dropped
             except OSError:
-                return True
+                return True, True
             offset = 0
-            while offset + 16 <= len(data):
-                mask = int.from_bytes(data[offset + 4:offset + 8], "little")
-                length = int.from_bytes(data[offset + 12:offset + 16], "little")
-                if mask & (IN_IGNORED | IN_DELETE_SELF | IN_MOVE_SELF):
-                    gone = True
-                offset += 16 + length
+            while offset + EVENT.size <= len(data):
+                wd, mask, _, length = EVENT.unpack_from(data, offset)
+                if wd == self.watch:
+                    gone |= bool(mask & (IN_IGNORED | IN_DELETE_SELF | IN_MOVE_SELF))
+                    dropped |= bool(mask & IN_IGNORED)
+                offset += EVENT.size + length
 
     def wait(self, seconds, stop):
         """Until something in the folder changes (True), or ``seconds`` passed or a stop was
@@ -146,10 +153,11 @@ class FolderWatch:
             if not self.active:
                 time.sleep(min(left, STOP_SLICE))
                 continue
-            ready, _, _ = select.select([self.fd], [], [], min(left, STOP_SLICE))
-            if ready:
-                if self._drain():  # removed or moved away: polled until a folder is back
-                    self._libc.inotify_rm_watch(self.fd, self.watch)
+            if self._poller.poll(1000.0 * min(left, STOP_SLICE)):
+                gone, dropped = self._drain()
+                if gone:  # removed or moved away: polled until a folder is back
+                    if not dropped:
+                        self._libc.inotify_rm_watch(self.fd, self.watch)
                     self.watch = -1
                 return True
         return False

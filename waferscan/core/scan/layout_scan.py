@@ -12,6 +12,7 @@ Semantics of the modes (SPEC §3):
 from __future__ import annotations
 
 import gc
+import threading
 from contextlib import contextmanager, nullcontext
 
 from ..mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slots
@@ -56,16 +57,28 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
                             turn_limits)
 
 
+_PAUSE = threading.Lock()
+_PAUSED = [0, False]  # [blocks inside a pause now, whether the collector ran before the first]
+
+
 @contextmanager
 def collector_paused():
-    """Python's cyclic garbage collector held off within the block (as it was, after)."""
-    enabled = gc.isenabled()
-    gc.disable()
+    """Python's cyclic garbage collector held off within the block, and as it was after the
+    last of the blocks that overlap (threads scanning at once: a Dask worker of several
+    threads). The collector's state is the process's: one count for all threads, under a lock,
+    so that no order of entries and exits leaves it off."""
+    with _PAUSE:
+        if _PAUSED[0] == 0:
+            _PAUSED[1] = gc.isenabled()
+            gc.disable()
+        _PAUSED[0] += 1
     try:
         yield
     finally:
-        if enabled:
-            gc.enable()
+        with _PAUSE:
+            _PAUSED[0] -= 1
+            if _PAUSED[0] == 0 and _PAUSED[1]:
+                gc.enable()
 
 
 def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_limits):
