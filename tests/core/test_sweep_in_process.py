@@ -24,6 +24,19 @@ def test_a_cluster_pays_only_beyond_its_start_up_scaled_by_its_speed_up():
     assert cluster.cluster_pays(2.0, 16)  # s = 12.8: T > 1.41 s
 
 
+class Saying:
+    """A progress line that keeps what the sweep says of itself."""
+
+    def __init__(self, said):
+        self.said = said
+
+    def __call__(self, done, total, layouts=None):
+        pass
+
+    def say(self, text):
+        self.said.append(text)
+
+
 class NoCluster(Exception):
     pass
 
@@ -42,15 +55,8 @@ def watched(monkeypatch):
 
 def test_without_workers_a_short_sweep_stays_in_this_process(watched):
     said = []
-
-    class Progress:
-        def __call__(self, done, total, layouts=None):
-            pass
-
-        def say(self, text):
-            said.append(text)
-
-    summary, _ = cluster.run(PAPER, TOLERANCES, 2000, seed=4, progress=Progress())
+    progress = Saying(said)
+    summary, _ = cluster.run(PAPER, TOLERANCES, 2000, seed=4, progress=progress)
     in_process, _ = cluster.run(PAPER, TOLERANCES, 2000, seed=4, workers=0)
     assert summary == in_process
     assert len(said) == 1 and said[0].startswith("in this process: 2,000 layouts take about ")
@@ -102,15 +108,8 @@ def test_one_core_runs_in_this_process_without_a_pilot(watched):
 
     watched.setattr(cluster, "_in_process_seconds", pilot)
     said = []
-
-    class Progress:
-        def __call__(self, done, total, layouts=None):
-            pass
-
-        def say(self, text):
-            said.append(text)
-
-    summary, _ = cluster.run(PAPER, TOLERANCES, 2000, seed=4, progress=Progress())
+    progress = Saying(said)
+    summary, _ = cluster.run(PAPER, TOLERANCES, 2000, seed=4, progress=progress)
     assert summary == cluster.run(PAPER, TOLERANCES, 2000, seed=4, workers=0)[0]
     assert said == ["in this process: one core, where a local cluster never pays for its "
                     "start-up (--workers K to use one)"]
