@@ -1,7 +1,8 @@
-"""Issue 30, SPEC §9: the client's merge of a sweep's partitions is O(candidates), not
-O(partitions x candidates). Each partition's bounds at every candidate (``_bounds``, the old
-way) summed over the partitions equal the partitions' steps merged once (``_summed``), integer
-for integer, for all three kinds of digest; the brackets are the same ones."""
+"""Issue 30, SPEC §9: the client's merge of a sweep's partitions is O(candidates log
+candidates), not O(partitions x candidates). Each partition's bounds at every candidate
+(``_bounds`` here, the old way) summed over the partitions equal the partitions' steps merged
+once (``_summed``), integer for integer, for all three kinds of digest; the brackets are the
+same ones."""
 
 import time
 
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from waferscan.core.sweep import reduction
-from waferscan.core.sweep.margins import COARSE_SHIFT, order_keys
+from waferscan.core.sweep.margins import COARSE_BITS, COARSE_SHIFT, order_keys
 
 
 def _samples(rng, count, stride):
@@ -32,11 +33,42 @@ def _bins(rng, count):
             "max": float(values.max())}
 
 
+def _bounds(kind, candidates):
+    """The merge's bounds as they were computed before, kept as the reference: (at most how
+    many margins lie below each candidate, at least how many lie at or below it), one
+    partition's digest looked up at every candidate."""
+    count = kind["count"]
+    if "samples" in kind:
+        # k samples below v (every stride-th margin from the smallest): between
+        # (k - 1) * stride + 1 and k * stride of the margins lie below v (all when every
+        # sample does).
+        sample, stride = kind["samples"], kind["stride"]
+        a = np.searchsorted(sample, candidates, side="left")
+        b = np.searchsorted(sample, candidates, side="right")
+        return (np.where(a < len(sample), a * stride, count),
+                np.where(b > 0, (b - 1) * stride + 1, 0))
+    if "values" in kind:
+        cum = np.concatenate([[0], np.cumsum(kind["counts"])])
+        return (cum[np.searchsorted(kind["values"], candidates, side="left")],
+                cum[np.searchsorted(kind["values"], candidates, side="right")])
+    # A histogram of order keys: below v at most the margins of the bins starting below v's
+    # key; at or below v at least those of the bins ending at or below it.
+    keys = order_keys(candidates)
+    cum = np.zeros((1 << COARSE_BITS) + 1, dtype=np.int64)
+    cum[kind["bins"] + 1] = kind["bin_counts"]
+    cum = np.cumsum(cum)
+    start = (keys >> np.uint64(COARSE_SHIFT)).astype(np.int64)
+    starts_below = start + (keys & np.uint64((1 << COARSE_SHIFT) - 1) != 0)
+    ends_within = ((keys >> np.uint64(COARSE_SHIFT)) + ((keys & np.uint64(
+        (1 << COARSE_SHIFT) - 1)) == np.uint64((1 << COARSE_SHIFT) - 1))).astype(np.int64)
+    return cum[starts_below], cum[ends_within]
+
+
 def _old_brackets(kinds, ranks):
     """reduction._brackets as it was: every partition's bounds at every candidate."""
     candidates = np.unique(np.concatenate([reduction._candidates(k) for k in kinds]))
-    most = sum(reduction._bounds(k, candidates)[0] for k in kinds)
-    least = sum(reduction._bounds(k, candidates)[1] for k in kinds)
+    most = sum(_bounds(k, candidates)[0] for k in kinds)
+    least = sum(_bounds(k, candidates)[1] for k in kinds)
     return candidates, most, least
 
 

@@ -16,7 +16,7 @@ from PySide import QtGui
 
 from ..core.scan import clearance as core
 
-__all__ = ["scan_body", "LiveClearance", "ForkColour", "fork_footprints", "clearance_words",
+__all__ = ["scan_body", "LiveClearance", "ForkColour", "clearance_words",
            "clearance_labels", "show_clearance", "FORK_CONTACT"]
 
 FORK_CONTACT = (0.9, 0.1, 0.1)  # the fork's colour while closer than clearance_min
@@ -181,37 +181,6 @@ class ForkColour:
     def release(self):
         self.saved = []
         self.red = False
-
-
-def fork_footprints(body):
-    """[(part, [(x, y) …])]: each collision box of the robot's fork (the link that carries the
-    scanner), its eight corners seen from above (world X, Y in mm) in the scan's start pose;
-    empty for the scanner's heads (no robot). What ``pocket_plan.fork_swept`` sweeps."""
-    from ..robot.clearance import RobotBody
-
-    if not isinstance(body, RobotBody):
-        return []
-    import coal
-
-    from ..cad.robot import SCANNER_LINK
-
-    model = body.robot.model
-    frame = model.frames[model.getFrameId(SCANNER_LINK)]
-    fork_joint = getattr(frame, "parentJoint", getattr(frame, "parent", None))
-    found = []
-    for (name, shape, joint), (rotation, translation) in zip(body.parts,
-                                                             body.placements(body.start)):
-        if joint != fork_joint or not isinstance(shape, coal.Box):
-            continue
-        hx, hy, hz = (float(v) for v in shape.halfSide)
-        corners = []
-        for sx in (-1.0, 1.0):
-            for sy in (-1.0, 1.0):
-                for sz in (-1.0, 1.0):
-                    p = rotation @ [sx * hx, sy * hy, sz * hz] + translation
-                    corners.append((float(p[0]), float(p[1])))
-        found.append((name, corners))
-    return found
 
 
 CONTACT_STYLE = "color: #c01010; font-weight: bold;"

@@ -297,7 +297,8 @@ class PocketPlanView(QtGui.QWidget):
         """The fork's collision boxes seen from above in the start pose (read once), or []
         without a robot (or pinocchio)."""
         if self._footprints is None:
-            from .clearance_view import fork_footprints, scan_body
+            from ..robot.clearance import fork_footprints
+            from .clearance_view import scan_body
 
             body = scan_body(self.result, self.doc)
             self._footprints = fork_footprints(body) if body is not None else []

@@ -48,7 +48,7 @@ import pinocchio as pin  # noqa: E402
 
 from ..core.scan import clearance as core  # noqa: E402
 from ..core.scan import slow_scan  # noqa: E402
-from .kinematics import MM, WaferRobot, bundled_urdf  # noqa: E402
+from .kinematics import FORK, MM, WaferRobot, bundled_urdf  # noqa: E402
 
 HEAD_RADIUS = 3.0  # mm: the scanner's emitter and receiver heads (cad/features.ScannerBeam)
 BOW_RINGS = 24  # rings of a bowed wafer's surfaces
@@ -679,6 +679,28 @@ class ScannerBody(_Body):
         wx, wy = slow_scan.wrist_axis(self.layout, motion.z, motion.advance)
         reach = max(math.hypot(p[0] - wx, p[1] - wy) for p in self.ends(motion, 0.0))
         return math.radians(abs(s1 - s0)) * reach
+
+
+def fork_footprints(body):
+    """[(part, [(x, y) …])]: each collision box of the robot's fork (the link that carries the
+    scanner), its eight corners seen from above (world X, Y in mm) in the scan's start pose;
+    empty for the scanner's heads (no robot). What ``core.scan.pocket_plan.fork_swept``
+    sweeps for the GUI's pocket plan."""
+    if not isinstance(body, RobotBody):
+        return []
+    model = body.robot.model
+    frame = model.frames[model.getFrameId(FORK)]
+    fork_joint = getattr(frame, "parentJoint", getattr(frame, "parent", None))
+    corners = np.array([[sx, sy, sz] for sx in (-1.0, 1.0) for sy in (-1.0, 1.0)
+                        for sz in (-1.0, 1.0)])
+    found = []
+    for (name, shape, joint), (rotation, translation) in zip(body.parts,
+                                                             body.placements(body.start)):
+        if joint == fork_joint and isinstance(shape, coal.Box):
+            points = (corners * np.asarray(shape.halfSide, dtype=float)) @ rotation.T \
+                + translation
+            found.append((name, [(float(x), float(y)) for x, y in points[:, :2]]))
+    return found
 
 
 def body_for(layout, carrier=()):

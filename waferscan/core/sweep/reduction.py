@@ -8,7 +8,6 @@ import math
 
 from .draws import block_count
 from .margins import (
-    COARSE_BITS,
     COARSE_SHIFT,
     BracketTally,
     MarginTally,
@@ -90,40 +89,8 @@ def _candidates(kind):
     return np.array([key_value(k) for k in keys])
 
 
-def _bounds(kind, candidates):
-    """(at most how many margins lie below each candidate, at least how many lie at or below
-    it), from one partition's digest."""
-    import numpy as np
-
-    count = kind["count"]
-    if "samples" in kind:
-        # k samples below v (every stride-th margin from the smallest): between
-        # (k - 1) * stride + 1 and k * stride of the margins lie below v (all when every
-        # sample does).
-        sample, stride = kind["samples"], kind["stride"]
-        a = np.searchsorted(sample, candidates, side="left")
-        b = np.searchsorted(sample, candidates, side="right")
-        return (np.where(a < len(sample), a * stride, count),
-                np.where(b > 0, (b - 1) * stride + 1, 0))
-    if "values" in kind:
-        cum = np.concatenate([[0], np.cumsum(kind["counts"])])
-        return (cum[np.searchsorted(kind["values"], candidates, side="left")],
-                cum[np.searchsorted(kind["values"], candidates, side="right")])
-    # A histogram of order keys: below v at most the margins of the bins starting below v's
-    # key; at or below v at least those of the bins ending at or below it.
-    keys = order_keys(candidates)
-    cum = np.zeros((1 << COARSE_BITS) + 1, dtype=np.int64)
-    cum[kind["bins"] + 1] = kind["bin_counts"]
-    cum = np.cumsum(cum)
-    start = (keys >> np.uint64(COARSE_SHIFT)).astype(np.int64)
-    starts_below = start + (keys & np.uint64((1 << COARSE_SHIFT) - 1) != 0)
-    ends_within = ((keys >> np.uint64(COARSE_SHIFT)) + ((keys & np.uint64(
-        (1 << COARSE_SHIFT) - 1)) == np.uint64((1 << COARSE_SHIFT) - 1))).astype(np.int64)
-    return cum[starts_below], cum[ends_within]
-
-
 def _steps(kind):
-    """One partition's digest as the steps of its two bounds (``_bounds``): ((values, steps) by
+    """One partition's digest as the steps of its two bounds: ((values, steps) by
     which "how many margins lie below v, at most" rises as v passes each value, (values, steps)
     by which "how many lie at or below v, at least" rises as v reaches each)."""
     import numpy as np
@@ -170,7 +137,7 @@ def _summed(pieces, candidates, side):
 def _brackets(digests, key, ranks):
     """For each 0-based rank r of the margins ``key`` of every partition together, values
     (low, high) with low <= the r-th smallest <= high, from the partitions' digests, within
-    the margins' smallest and largest. The bounds are ``_bounds``' summed over the partitions
+    the margins' smallest and largest. The bounds are each partition's summed over the partitions
     (``_summed``: the same integers)."""
     import numpy as np
 
