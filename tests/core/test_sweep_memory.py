@@ -43,6 +43,7 @@ def test_margins_drawn_again_give_the_summary_of_margins_kept(rules, monkeypatch
                         lambda *a: tallies.append(partition_tally(*a)) or tallies[-1])
     monkeypatch.setattr(sweep.reduction, "partition_margins",
                         lambda source: redrawn.append(source) or partition_margins(source))
+    monkeypatch.setattr(sweep.tally, "MARGINS_KEPT", 0)  # histograms, none kept whole
     for limit in (1, 5, 300):
         monkeypatch.setattr(margins, "DISTINCT_LIMIT", limit)
         redrawn.clear()
@@ -57,6 +58,35 @@ def test_margins_drawn_again_give_the_summary_of_margins_kept(rules, monkeypatch
         assert redrawn  # the blocks were drawn again
 
 
+@pytest.mark.parametrize("kept", [10 ** 9, 4000])
+def test_margins_kept_whole_are_not_drawn_again(kept, monkeypatch):
+    """A kind of margin past DISTINCT_LIMIT is kept whole in a partition of no more than
+    MARGINS_KEPT slots (no second pass), and in a larger one counted in a histogram (a second pass):
+    the summary and histograms byte for byte those of every margin kept as distinct values."""
+    monkeypatch.setattr(margins, "DISTINCT_LIMIT", 10 ** 9)
+    expected, expected_hists = _summary_and_histograms(2200, 7, WAFERSCAN, 3)
+    monkeypatch.setattr(margins, "DISTINCT_LIMIT", 300)
+    monkeypatch.setattr(sweep.tally, "MARGINS_KEPT", kept)
+    tallies, redrawn = [], []
+    partition_tally, partition_margins = sweep.tally.partition_tally, \
+        sweep.reduction.partition_margins
+    monkeypatch.setattr(sweep.run, "partition_tally",
+                        lambda *a: tallies.append(partition_tally(*a)) or tallies[-1])
+    monkeypatch.setattr(sweep.reduction, "partition_margins",
+                        lambda source: redrawn.append(source) or partition_margins(source))
+    got, hists = _summary_and_histograms(2200, 7, WAFERSCAN, 3)
+    assert json.dumps(got) == json.dumps(expected)
+    for key, (counts, edges) in expected_hists.items():
+        assert np.array_equal(hists[key][0], counts) and np.array_equal(hists[key][1], edges)
+    position = [t["margins"]["position"] for t in tallies]
+    if kept > 10 ** 6:  # every partition's position margins kept, sorted: nothing drawn again
+        assert all(isinstance(p, np.ndarray) for p in position) and not redrawn
+        assert sum(len(p) for p in position) == got["margins"]["position"]["count"]
+        assert all((np.diff(p) >= 0).all() for p in position)
+    else:  # 5,000 to 25,000 slots a partition: more than 2,000, so none kept
+        assert not any(isinstance(p, np.ndarray) for p in position) and redrawn
+
+
 def _rss_run(n, limit):
     """Peak resident memory (kB) of a fresh process sweeping the paper N times, and the
     summary."""
@@ -66,6 +96,7 @@ def _rss_run(n, limit):
             "from waferscan.core.files.scenario import read_scenario\n"
             "from waferscan.core.sweep.distributions import parse_tolerances\n"
             f"margins.DISTINCT_LIMIT = {limit}\n"
+            f"sweep.tally.MARGINS_KEPT = {limit}\n"
             f"summary = sweep.run_sweep(read_scenario({str(PAPER)!r}), "
             f"parse_tolerances({SWEEP_TOLERANCES!r}), {n}, seed=2)\n"
             "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n"

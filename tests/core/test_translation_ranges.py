@@ -98,3 +98,43 @@ def test_a_beam_beside_a_wafer_and_degenerate_rims():
     empty = translation_ranges(np.zeros(3), np.zeros((0, 3)), axis, np.zeros((0, 3)),
                                np.zeros((0, 3)), np.zeros(0), np.zeros(0), 400.0, 0.0)
     assert [len(x) for x in empty] == [0, 0, 0, 0]
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_tilted_beam_over_level_wafers_is_the_general_regions_answer(seed):
+    """A sweep's [beam_tilt] over level wafers (``_slanted_extremes``) gives the floats of the
+    general region's corners (``_extremes`` with the rim as two lines) bit for bit, signed
+    zeros and the parallel test's edge included, on wafers and beams placed on round values
+    (corners exactly on a face, beams ending on the rim) as well as drawn ones."""
+    from waferscan.core.geometry import ranges
+
+    rng = np.random.default_rng(seed)
+    n = 40_000
+    tilt = np.radians(rng.normal(0.0, 0.05, n))
+    direction = np.stack([np.ones(n), rng.uniform(-0.2, 0.2, n), np.tan(tilt)], axis=1)
+    direction[::7, 2] = rng.choice([1e-3, -1e-3, 2.0 ** -10, -(2.0 ** -12)], len(direction[::7]))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    emitter = np.stack([rng.uniform(-210, -150, n), rng.uniform(-160, 160, n),
+                        rng.uniform(295, 305, n)], axis=1)
+    center = np.stack([rng.uniform(-2, 2, n), rng.uniform(-2, 2, n), np.full(n, 300.0)], axis=1)
+    center[::5], emitter[::5] = np.round(center[::5]), np.round(emitter[::5] * 4) / 4
+    normal = np.tile([0.0, 0.0, 1.0], (n, 1))
+    thickness = rng.choice([0.775, 0.5, 1.0, 0.0], n)
+    for length, tol in ((400.0, TOUCH_TOLERANCE), (120.0, 0.0)):
+        r = np.full(n, 150.0) + tol
+        r2 = r * r
+        wn, en, an, p, q, g = ranges._frame(tuple(emitter.T), tuple(direction.T),
+                                            tuple(center.T), tuple(normal.T), (0.0, 0.0, 1.0))
+        assert not np.any(g) and np.all(en != 0.0)
+        unit = tuple(b / np.sqrt(ranges._dot(q, q)) for b in q)
+        qu, gu, pu = ranges._dot(q, unit), ranges._dot(g, unit), ranges._dot(p, unit)
+        disc = pu * pu - (ranges._dot(p, p) - r2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            general = ranges._extremes(wn, en, an, p, q, g, r, r2, thickness, length, tol,
+                                       (qu, gu, pu, np.sqrt(np.maximum(disc, 0.0))))
+            edge, lo, hi, empty = ranges._slanted_extremes(wn, en, an, p, q, r, r2, thickness,
+                                                           length, tol)
+        assert np.array_equal(edge, general[0])
+        assert lo.tobytes() == general[1].tobytes() and hi.tobytes() == general[2].tobytes()
+        assert np.array_equal(empty, disc < 0.0)
+        assert (lo <= hi).sum() > n // 2  # most of them met

@@ -301,10 +301,24 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
                 tuple(x[rows] for x in q), radius[rows], t[rows], bow[rows], length, tol)
             covered[rows] = True
 
+        # A level wafer lifted along its axis, the beam tilted out of its faces (a sweep's
+        # [beam_tilt]): the general region's corners, worked out without its zero terms.
+        slanted = (flat & (en != 0.0) & (an != 0.0) & (qq != 0.0)
+                   & (gx == 0.0) & (gy == 0.0) & (gz == 0.0))
+        if slanted.any():
+            rows = np.flatnonzero(slanted)
+            edge, low, high, empty = _slanted_extremes(
+                wn[rows], en[rows], an[rows], tuple(x[rows] for x in p),
+                tuple(x[rows] for x in q), r[rows], r2[rows], t[rows], length, tol)
+            lo[rows], hi[rows] = low, high
+            hit[rows] = (low <= high) & ~empty
+            covered[rows] = ~edge
+
         # The general region (_boundary_lines, _corner_candidates, _feasible_range), but for its
         # degenerate cases (beam and axis both along the faces, or both without a part across
         # the normal), which the scalar function takes.
-        general = flat & ~level & ~((en == 0.0) & (an == 0.0)) & ~((qq == 0.0) & (gg == 0.0))
+        general = (flat & ~level & ~slanted & ~((en == 0.0) & (an == 0.0))
+                   & ~((qq == 0.0) & (gg == 0.0)))
         cross = ((qy * gz - qz * gy) ** 2 + (qz * gx - qx * gz) ** 2
                  + (qx * gy - qy * gx) ** 2)
         # Beam and axis across the normal along one line: the rim is two parallel lines
@@ -333,6 +347,57 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
             covered[rows] = ~edge
     hit &= covered
     return lo, hi, hit, covered
+
+
+def _slanted_extremes(wn, en, an, p, q, r, r2, t, length, tol):
+    """``_extremes`` over rows of level wafers lifted along their axis (g = 0) with the beam
+    out of their faces (en != 0): the rim is the two lines lam*qu = -pu -+ root, parallel to
+    the beam's ends, so the corners are the beam's ends and the rim's lines on each face. The
+    same floats as ``_extremes``: each term it multiplies by g's zeros or by the beam's ends'
+    (1, 0) is left out where leaving it out is exact (x*1 = x, x - (+-0) = x for x != 0,
+    hypot(x, +-0) = |x|, and a quotient's two signs cancel exactly). Returns (edge, lo, hi,
+    empty): ``empty`` where the beam's line misses the rim."""
+    import numpy as np
+
+    qq = _dot(q, q)
+    norm = np.sqrt(qq)
+    unit = tuple(b / norm for b in q)
+    qu, pu = _dot(q, unit), _dot(p, unit)
+    disc = pu * pu - (_dot(p, p) - r2)
+    empty = disc < 0.0
+    root = np.sqrt(np.maximum(disc, 0.0))
+    faces = (-tol - wn, t + tol - wn)
+    hyp = np.hypot(en, an)
+    # The beam's ends against the faces: det = 1*an - en*0 = an.
+    limit = 1e-14 * hyp
+    edge = np.abs(np.abs(an) - limit) <= EDGE_OF_PARALLEL * limit
+    valid = ~((hyp == 0.0) | (np.abs(an) <= limit))
+    candidates = [((end * an) / an, (face - en * end) / an, valid)
+                  for end in (-tol, length + tol) for face in faces]
+    # The faces against the rim's lines: det = en*0 - qu*an = -(qu*an).
+    det = -(qu * an)
+    limit = 1e-14 * (hyp * np.abs(qu))
+    edge |= np.abs(np.abs(det) - limit) <= EDGE_OF_PARALLEL * limit
+    valid = ~((hyp * np.abs(qu) == 0.0) | (np.abs(det) <= limit))
+    candidates += [((rim * an) / (qu * an), (en * rim - qu * face) / det, valid)
+                   for face in faces for rim in (-pu - root, -pu + root)]
+    # _feasible_range, with x = p + lam*q (tau*g is a zero)
+    lo = np.full(wn.shape, np.inf)
+    hi = np.full(wn.shape, -np.inf)
+    lam_lo, lam_hi = -tol - SLACK, length + tol + SLACK
+    h_lo, h_hi = -tol - SLACK, t + tol + SLACK
+    rim_limit = r2 + 2.0 * r * SLACK
+    px, py, pz = p
+    qx, qy, qz = q
+    for lam, tau, valid in candidates:
+        ok = valid & (lam_lo <= lam) & (lam <= lam_hi)
+        h = wn + lam * en + tau * an
+        ok &= (h_lo <= h) & (h <= h_hi)
+        x, y, z = px + lam * qx, py + lam * qy, pz + lam * qz
+        ok &= ~(x * x + y * y + z * z > rim_limit)
+        lo = np.where(ok, np.minimum(lo, tau), lo)
+        hi = np.where(ok, np.maximum(hi, tau), hi)
+    return edge, lo, hi, empty
 
 
 def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):

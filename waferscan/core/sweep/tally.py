@@ -7,8 +7,8 @@ from __future__ import annotations
 from .. import mapping
 from ..mapping import CROSS, DOUBLE, POSITION_ERROR, PRESENT, THIN
 from .block_scan import UNSCANNED, needs_scalar_path, scalar_block, scan_block, spot_block
-from .draws import block_size, draw_block
-from .margins import MarginTally
+from .draws import block_size, draw_block, layouts_in
+from .margins import MARGINS_KEPT, MarginTally
 
 # Summary names, indexed by state code (SPEC §12).
 STATE_KEYS = ("empty", "present", "cross", "double", "thin", "position_error", "protruding",
@@ -149,8 +149,10 @@ def partition_tally(base, tolerances, seed, n, blocks):
     the confusion counts, the weakest peak, the extremes of the readings the suggested recipe
     is built from, and the margins of the truly present wafers (core/sweep/margins.py's
     MarginTally: their distinct values with counts, or a histogram of them), counted block by
-    block in memory that does not grow with N. ``source`` is what draws the blocks again when
-    the reduction needs margins a histogram does not hold (``reduce_partitions``)."""
+    block in memory that does not grow with N: a kind of margin whose distinct values outgrow
+    its MarginTally is kept whole, sorted, in a partition of at most MARGINS_KEPT slots.
+    ``source`` is what draws the blocks again when the reduction needs margins a histogram does
+    not hold (``reduce_partitions``)."""
     import numpy as np
 
     confusion = np.zeros((8, 8), dtype=np.int64)
@@ -165,6 +167,12 @@ def partition_tally(base, tolerances, seed, n, blocks):
         clearance = {"layouts": 0, "contacts": 0,
                      "by_part": np.zeros(len(base.clearance.body.parts), dtype=np.int64),
                      "by_slot": np.zeros(base.carrier.slot_count, dtype=np.int64)}
+    # Each block's margins, kept when the partition cannot hold more than MARGINS_KEPT of a
+    # kind (one per slot and layout): a kind whose distinct values outgrow its MarginTally then
+    # needs no second pass over the blocks (margins.py). Decided before the first block, so
+    # that a partition's memory never grows with its N.
+    keep = layouts_in(n, blocks) * base.carrier.slot_count <= MARGINS_KEPT
+    kept = {key: [] if keep else None for key in margins}
     for tally in block_tallies(base, tolerances, seed, n, blocks):
         confusion += tally["confusion"]
         moments += tally["moments"]
@@ -182,6 +190,13 @@ def partition_tally(base, tolerances, seed, n, blocks):
             extremes[name] = _ends(values, extremes[name])
         for key, values in margin_values(base.plan, tally).items():
             margins[key].add(values)
+            if kept[key] is not None:
+                kept[key].append(values)
+    for key, held in kept.items():
+        if held is not None and not margins[key].exact:
+            # Every margin of this kind, sorted: what reduction.py reads of a partition that
+            # kept them all, the same order statistics as the histogram's second pass.
+            margins[key] = np.sort(np.concatenate(held)) if held else np.empty(0)
     out = {"confusion": confusion, "moments": moments,
            "weakest_peak": 1.0 if weakest is None else weakest,
            "extremes": extremes, "margins": margins,
