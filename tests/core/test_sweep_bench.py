@@ -45,3 +45,45 @@ def test_the_merge_is_measured():
 def test_no_sweep_measured_says_so():
     lines = sweep_lines({"results": []})
     assert lines == [(None, "sweeps (SPEC §12): not measured")]
+
+
+def test_the_floor_and_the_beam_tilt_are_judged_against_their_ratios():
+    rep = report(15_000_000, 100_000, 120_000, 300_000, 500_000, 1.7)
+    rep["sweep"].update({"ideal beam / numpy floor": 2.4, "numpy floor, in process": 30_000_000,
+                         "beam tilt / level beam": 1.6, "ideal beam, level beam": 20_000_000})
+    lines = sweep_lines(rep)
+    assert [met for met, _ in lines] == [True, True, False, True, True]
+    assert lines[1][1].startswith("sweep, ideal beam: 2.40x a plain numpy draw")
+    assert "(30,000,000 a minute; <= 2.5x" in lines[1][1]
+    assert lines[2][1].startswith("sweep with [beam_tilt]: 1.60x the same sweep without it "
+                                  "(20,000,000 a minute")
+    rep["sweep"].update({"ideal beam / numpy floor": 2.6, "beam tilt / level beam": 1.4})
+    assert [met for met, _ in sweep_lines(rep)] == [True, False, True, True, True]
+
+
+def test_the_floor_sweeps_the_same_layouts_in_distribution():
+    """The bench's numpy floor (bench/sweep_floor.py) does the sweep's work, not less: over
+    20,000 layouts of the paper under fab_tolerances its confusion counts agree with the
+    sweep's in distribution (its draws are its own): every placed state's share, and the share
+    reported as placed, within 1.5 points."""
+    import numpy as np
+    from scenarios import PAPER, ROOT
+
+    from waferscan.bench.sweep_floor import floor_sweep
+    from waferscan.core import sweep
+    from waferscan.core.files.scenario import read_scenario
+    from waferscan.core.sweep.distributions import read_tolerances
+    from waferscan.core.sweep.tally import STATE_KEYS
+
+    layout = read_scenario(PAPER)
+    tolerances = read_tolerances(ROOT / "resources" / "examples" / "fab_tolerances.toml")
+    floor = floor_sweep(layout, tolerances, 20_000, seed=3)
+    summary = sweep.run_sweep(layout, tolerances, 20_000, seed=3)
+    product = np.zeros((8, 8), dtype=np.int64)
+    for i, truth in enumerate(STATE_KEYS):
+        for j, reported in enumerate(STATE_KEYS):
+            product[i, j] = summary["confusion"].get(truth, {}).get(reported, 0)
+    assert floor.sum() == product.sum() == 20_000 * 25
+    assert np.allclose(floor.sum(axis=1) / floor.sum(), product.sum(axis=1) / product.sum(),
+                       atol=0.015)
+    assert abs(np.trace(floor) / floor.sum() - np.trace(product) / product.sum()) < 0.015

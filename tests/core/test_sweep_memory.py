@@ -4,7 +4,6 @@ histogram, and draws its blocks again when the summary needs values a histogram 
 The summary stays the one every margin kept in one sorted array gives, byte for byte."""
 
 import json
-import os
 import signal
 import subprocess
 import sys

@@ -155,6 +155,17 @@ def contract(report):
         checks.append((ideal >= 10_000_000, f"sweep (SPEC §12), ideal beam, 25-slot FOUP: "
                                             f"{ideal:,.0f} layouts a minute in one process "
                                             f"(>= 10,000,000)"))
+        floor = sweep.get("ideal beam / numpy floor")
+        if floor is not None:
+            checks.append((floor <= 2.5, f"sweep, ideal beam: {floor:.2f}x a plain numpy draw "
+                                         f"+ scan + map of as many layouts "
+                                         f"({sweep['numpy floor, in process']:,.0f} a minute; "
+                                         f"<= 2.5x, median of interleaved rounds)"))
+        tilt = sweep.get("beam tilt / level beam")
+        if tilt is not None:
+            checks.append((tilt <= 1.5, f"sweep with [beam_tilt]: {tilt:.2f}x the same sweep "
+                                        f"without it ({sweep['ideal beam, level beam']:,.0f} a "
+                                        f"minute; <= 1.5x)"))
         checks.append((spot >= 100_000, f"sweep with a 1 mm beam spot: {spot:,.0f} layouts a "
                                         f"minute in one process (>= 100,000); "
                                         f"{sweep['1 mm spot, level beam']:,.0f} without the "

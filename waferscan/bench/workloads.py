@@ -382,12 +382,20 @@ def bench_sweep(paper, rounds, add, quick=False):
     # (corner) path in every column of the spot, a level one its closed form (docs/performance.md).
     level = replace(tolerances, quantities={k: v for k, v in tolerances.quantities.items()
                                             if k != "beam_tilt"})
+    from .sweep_floor import floor_sweep
+
     tasks = {
         "ideal beam, in process": lambda: sweep.run_sweep(paper, tolerances, n_ideal, seed=1),
+        # SPEC §9 amended: the floor beside it (a plain numpy draw + scan + map of as many
+        # layouts), and the same sweep without the beam's tilt
+        "numpy floor, in process": lambda: floor_sweep(paper, tolerances, n_ideal, seed=1),
+        "ideal beam, level beam": lambda: sweep.run_sweep(paper, level, n_ideal, seed=1),
         "1 mm spot, in process": lambda: sweep.run_sweep(spot, tolerances, n_spot, seed=1),
         "1 mm spot, level beam": lambda: sweep.run_sweep(spot, level, n_spot, seed=1),
     }
     measured = [("ideal beam, in process", n_ideal, paper),
+                ("numpy floor, in process", n_ideal, paper),
+                ("ideal beam, level beam", n_ideal, paper),
                 ("1 mm spot, in process", n_spot, spot),
                 ("1 mm spot, level beam", n_spot, spot)]
     body = _stroke_body(paper)
@@ -399,7 +407,11 @@ def bench_sweep(paper, rounds, add, quick=False):
             paper, contact, n_ideal, seed=1, clearance_body=body)
         measured.append(("contact rate, in process", n_ideal, paper))
     times, results = interleaved(tasks, max(1, rounds // 3))
-    rates = {"merge of 1,000 partitions (s)": merge_seconds(rounds)}
+    rates = {"merge of 1,000 partitions (s)": merge_seconds(rounds),
+             "ideal beam / numpy floor": median_ratio(times["ideal beam, in process"],
+                                                      times["numpy floor, in process"]),
+             "beam tilt / level beam": median_ratio(times["ideal beam, in process"],
+                                                    times["ideal beam, level beam"])}
     for name, n, layout in measured:
         rates[name] = per_minute(n, times[name])
         add(row("sweep", name, layout, times[name], layouts=n,
