@@ -322,12 +322,32 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
     not wholly cover: whatever their runs say is not known, so they are ``?`` (SPEC §3). The
     load port's protrusion check does not depend on the scan: 6 outranks ``?`` too."""
     count = plan.slot_count
-    judge = run_judge(plan)
-    rank = _RANK
     # By slot number (index 0 unused): a scan maps every slot, once. A slot's list of runs is
     # made when its first run comes (most slots of a scan have one run or none).
     states = [EMPTY] * (count + 1)
     members = [None] * (count + 1)
+    if plan.rules == BOUNDARY:
+        _land_runs(plan, runs, states, members)
+    else:
+        _land_by_bottom_edge(plan, runs, states, members)
+    for slot in unscanned:
+        if 1 <= slot <= count:
+            states[slot] = UNSCANNED
+    for slot in protruding_slots:
+        if 1 <= slot <= count:
+            states[slot] = PROTRUDING
+    first, pitch = plan.first_slot_z, plan.pitch  # seat_z(slot), written out
+    return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, states[slot],
+                                    () if members[slot] is None else tuple(members[slot]))
+                          for slot in range(1, count + 1)]))
+
+
+def _land_runs(plan, runs, states, members):
+    """``map_slots``' states and members (by slot number) of the runs, by ``run_judge``'s
+    findings: the worst finding a slot wins, and a second run in a slot that is not
+    cross-slotted is a position error."""
+    judge = run_judge(plan)
+    rank = _RANK
     for index, (bottom, top) in enumerate(runs):
         two_runs_in_one_slot = None
         for slot, state in judge(bottom, top):
@@ -344,16 +364,59 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
         for slot in two_runs_in_one_slot or ():
             if rank[POSITION_ERROR] > rank[states[slot]]:
                 states[slot] = POSITION_ERROR
-    for slot in unscanned:
-        if 1 <= slot <= count:
-            states[slot] = UNSCANNED
-    for slot in protruding_slots:
-        if 1 <= slot <= count:
-            states[slot] = PROTRUDING
-    first, pitch = plan.first_slot_z, plan.pitch  # seat_z(slot), written out
-    return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, states[slot],
-                                    () if members[slot] is None else tuple(members[slot]))
-                          for slot in range(1, count + 1)]))
+
+
+def _land_by_bottom_edge(plan, runs, states, members):
+    """``_land_runs`` under the "waferscan" rules, with ``_bottom_edge_judge``'s body written
+    out in the loop (the same limits and sums, so the same states; tests/core/test_fab_floor.py
+    checks it against ``_land_runs``): its list of findings a run and the call were a third of
+    the slot map of a fab's scan. A run lands in one slot, or (cross-slotted) in the two around
+    its midpoint, which are CROSS and so never a second run's position error."""
+    eps = LIMIT_SLACK
+    double = plan.double_limit() + eps
+    below, above = plan.position_window()
+    above, below = above + eps, below + eps
+    low, high = plan.thickness_window()
+    low, high = low - eps, high + eps
+    first, pitch, count = plan.first_slot_z, plan.pitch, plan.slot_count
+    correction = plan.thickness_correction
+    floor = math.floor
+    rank = _RANK_OF_CODE  # by state code: every state here is a number
+    cross_rank, error_rank = rank[CROSS], rank[POSITION_ERROR]
+    for index, (bottom, top) in enumerate(runs):
+        length = top - bottom if correction == 1.0 else (top - bottom) / correction
+        if length > double:
+            lower = int(floor((0.5 * (bottom + top) - first) / pitch)) + 1
+            for slot in (lower, lower + 1):
+                if 1 <= slot <= count:
+                    held = members[slot]
+                    if held is None:
+                        members[slot] = [index]
+                    else:
+                        held.append(index)
+                    if cross_rank > rank[states[slot]]:
+                        states[slot] = CROSS
+            continue
+        slot = int(floor((bottom - first) / pitch + 0.5)) + 1
+        if not 1 <= slot <= count:
+            continue
+        offset = bottom - (first + (slot - 1) * pitch)
+        if offset > above or -offset > below:
+            state = POSITION_ERROR
+        elif length < low:
+            state = THIN
+        else:
+            state = PRESENT if length <= high else DOUBLE
+        if rank[state] > rank[states[slot]]:
+            states[slot] = state
+        held = members[slot]
+        if held is None:
+            members[slot] = [index]
+        else:
+            held.append(index)
+            # A second run in a slot is not a normally inserted wafer.
+            if error_rank > rank[states[slot]]:
+                states[slot] = POSITION_ERROR
 
 
 def map_runs(plan, bottom, top, ok):

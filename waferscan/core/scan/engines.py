@@ -332,6 +332,11 @@ def analytic_engine(layout, progress=None):
     scan = layout.scan
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")
+    if not scan.exact:
+        steps, reachable = _stepped_steps(layout)
+        # only the reachable wafers can have steps: the runs of theirs (in the same order)
+        return StepHits(scan.position_count, steps,
+                        runs_from_intervals([steps[i] for i in reachable]))
     wafers = layout.wafers
     edges = [None] * len(wafers)
     level_scan = layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0
@@ -366,6 +371,99 @@ def analytic_engine(layout, progress=None):
         return ExactHits(tuple(clipped), tuple(runs))
     steps = tuple(steps)
     return StepHits(scan.position_count, steps, runs_from_intervals(steps))
+
+
+def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
+    """``analytic_engine``'s stepped intervals (z_step > 0), one per wafer of the layout, None
+    where the beam misses it, and the indices of the reachable wafers (ascending). A level
+    wafer of a level scan takes ``level_edger``'s edges and then ``settler``'s steps written
+    out in this loop, term for term (the same floats: the loop against the two in
+    tests/core/test_fab_floor.py, each against its definition in tests/core/test_fixed_cost.py,
+    the engine against ``loop`` in tests/core/test_engines.py): their two calls and the edges'
+    tuple a wafer cost more than the arithmetic. Any other wafer, or edges near a grid
+    position, as before."""
+    scan = layout.scan
+    wafers = layout.wafers
+    steps = [None] * len(wafers)
+    reachable = reachable_wafers(layout)  # only these: most of a fab's wafers are out of reach
+    if not (layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0):
+        for i in reachable:
+            wafer = wafers[i]
+            edge = wafer_edges(layout, wafer)
+            if edge is not None:
+                steps[i] = snap_to_grid(layout, wafer, edge)
+        return tuple(steps), reachable
+    settled = settler(layout)
+    # level_edger's values of the beam, read once a scan
+    ox, oy, oz = layout.beam.emitter
+    ex, ey, _ = layout.beam.direction
+    sqrt, copysign, inf = math.sqrt, math.copysign, math.inf
+    qq = ex * ex + ey * ey
+    past_end = layout.beam.length + tol
+    # settler's values of the scan
+    start, step, last_k = scan.start_z, scan.z_step, scan.last_step
+    scan_size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]))
+    ceil, floor = math.ceil, math.floor
+    scan_margin = SETTLED_MARGIN * scan_size / step
+    for i in reachable:
+        wafer = wafers[i]
+        if wafer.normal != (0.0, 0.0, 1.0):
+            edge = wafer_edges(layout, wafer)
+            if edge is not None:
+                steps[i] = snap_to_grid(layout, wafer, edge)
+            continue
+        if wafer.bow:  # level but bowed: the general edges, then settled (or snapped)
+            edge = wafer_edges(layout, wafer)
+            if edge is not None:
+                steps[i] = settled(edge) or snap_to_grid(layout, wafer, edge)
+            continue
+        # level_edger's edges(wafer)
+        cx, cy, cz = wafer.center
+        wx, wy, wz = ox - cx, oy - cy, oz - cz
+        r = wafer.diameter / 2.0 + tol
+        c = wx * wx + wy * wy - r * r
+        if qq == 0.0:
+            if c > 0.0:
+                continue
+            low, high = -inf, inf
+        else:
+            pq = wx * ex + wy * ey + 0.0
+            disc = pq * pq - qq * c
+            if disc < 0.0:
+                continue
+            root = -pq - copysign(sqrt(disc), pq)
+            r1 = root / qq
+            r2 = c / root if root != 0.0 else 0.0
+            low, high = (r1, r2) if r1 <= r2 else (r2, r1)
+        if high < -tol or low > past_end:
+            continue
+        low, high = -tol - wz, wafer.thickness + tol - wz
+        if low <= high:
+            e0, e1 = oz + low, oz + high
+        else:
+            e0, e1 = oz + high, oz + low
+        # settler's settled((e0, e1))
+        a, b = abs(e0), abs(e1)
+        if a > scan_size or b > scan_size:
+            size = a if a > scan_size else scan_size
+            if b > size:
+                size = b
+            margin = SETTLED_MARGIN * size / step
+        else:
+            margin = scan_margin
+        x0 = (e0 - start) / step
+        x1 = (e1 - start) / step
+        lo, hi = ceil(x0), floor(x1)
+        if lo - x0 <= margin or x0 - lo + 1 <= margin or x1 - hi <= margin or \
+                hi + 1 - x1 <= margin:
+            steps[i] = snap_to_grid(layout, wafer, (e0, e1))
+            continue
+        if lo < 0:
+            lo = 0
+        if hi > last_k:
+            hi = last_k
+        steps[i] = (lo, hi) if lo <= hi else snap_to_grid(layout, wafer, (e0, e1))
+    return tuple(steps), reachable
 
 
 # Engines of the CAD layer (waferscan.cad, which needs FreeCAD): named here so that a command

@@ -13,16 +13,15 @@ from __future__ import annotations
 
 import gc
 import threading
-from contextlib import contextmanager, nullcontext
+from contextlib import contextmanager
 
 from ..mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slots
-from ..model import SLOW
+from ..model import SLOW, UP
 from . import slow_scan
 from .engines import ExactHits, run_engine
 from .scan_result import (
     ScanResult,
     SensorRun,
-    WaferInterval,
     exact_intervals,
     latcher,
     missed_by_beam,
@@ -34,6 +33,8 @@ from .scan_result import (
     scanned_range,
     slot_plan,
     stepped_intervals,
+    stepped_records,
+    wafer_records,
 )
 
 
@@ -52,13 +53,35 @@ def scan_layout(layout, engine="analytic", progress=None, stepper=None, measure=
     # (~30 % of the larger scan in collection). It waits until the scan is done (SPEC §9:
     # <= 12x). Not for the CAD layer's engines (``stepper``): they step FreeCAD's objects for
     # seconds, and what they leave is collected as it comes.
-    with collector_paused() if stepper is None else nullcontext():
+    if stepper is not None:
         return _scan_layout(layout, engine, progress, stepper, measure, ray_ranges,
                             turn_limits)
+    # collector_paused() written out: its generator's context manager cost more than the pause
+    _pause_collector()
+    try:
+        return _scan_layout(layout, engine, progress, stepper, measure, ray_ranges,
+                            turn_limits)
+    finally:
+        _resume_collector()
 
 
 _PAUSE = threading.Lock()
 _PAUSED = [0, False]  # [blocks inside a pause now, whether the collector ran before the first]
+
+
+def _pause_collector():
+    with _PAUSE:
+        if _PAUSED[0] == 0:
+            _PAUSED[1] = gc.isenabled()
+            gc.disable()
+        _PAUSED[0] += 1
+
+
+def _resume_collector():
+    with _PAUSE:
+        _PAUSED[0] -= 1
+        if _PAUSED[0] == 0 and _PAUSED[1]:
+            gc.enable()
 
 
 @contextmanager
@@ -67,18 +90,11 @@ def collector_paused():
     last of the blocks that overlap (threads scanning at once: a Dask worker of several
     threads). The collector's state is the process's: one count for all threads, under a lock,
     so that no order of entries and exits leaves it off."""
-    with _PAUSE:
-        if _PAUSED[0] == 0:
-            _PAUSED[1] = gc.isenabled()
-            gc.disable()
-        _PAUSED[0] += 1
+    _pause_collector()
     try:
         yield
     finally:
-        with _PAUSE:
-            _PAUSED[0] -= 1
-            if _PAUSED[0] == 0 and _PAUSED[1]:
-                gc.enable()
+        _resume_collector()
 
 
 def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_limits):
@@ -93,19 +109,29 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
     stepping = slow_scan.stepping_layout(layout)  # with a jab, the fork in (SPEC §13)
     hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(stepping, progress)
     window = pocket_window(plan) if scan.mode == SLOW else None
-    if isinstance(hits, ExactHits):
-        run_spans, wafer_spans = exact_intervals(hits, window)
+    if window is None and not isinstance(hits, ExactHits):
+        run_spans, wafers, run_names = stepped_records(hits, scan, layout.wafers)
+        wafer_spans = hits.wafer_steps  # None where the scan never met a wafer, as its span
     else:
-        run_spans, wafer_spans = stepped_intervals(hits, scan, window)
-    latch_run = latcher(scan)
-    latched = [latch_run(bottom, top) for bottom, top in run_spans]
+        if isinstance(hits, ExactHits):
+            run_spans, wafer_spans = exact_intervals(hits, window)
+        else:
+            run_spans, wafer_spans = stepped_intervals(hits, scan, window)
+        wafers = wafer_records(layout.wafers, wafer_spans)
+        run_names = run_wafers(run_spans, layout.wafers, wafer_spans)
+    lag = scan.latch_lag
+    if scan.mode == SLOW or scan.direction == UP:
+        # latcher's (bottom + lag, top + lag), without its call a run; bottom <= top stays so
+        # (rounding is monotonic), so these are also the runs' (bottom, top) below
+        latched = spans = [(bottom + lag, top + lag) for bottom, top in run_spans]
+    else:
+        latch_run = latcher(scan)
+        latched = [latch_run(bottom, top) for bottom, top in run_spans]
+        # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
+        spans = [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
+                 for z_in, z_out in latched]
     runs = [SensorRun(z_in, z_out, names, span)
-            for (z_in, z_out), span, names in zip(latched, run_spans,
-                                                  run_wafers(run_spans, layout.wafers,
-                                                              wafer_spans))]
-    wafers = tuple([WaferInterval(w.name, None, None) if span is None else
-                    WaferInterval(w.name, span[0], span[1])
-                    for w, span in zip(layout.wafers, wafer_spans)])
+            for (z_in, z_out), span, names in zip(latched, run_spans, run_names)]
     flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
     # The range the scan was set to cover; between its stepped positions, as everywhere on the
     # grid, the beam is sampled a step apart.
@@ -129,9 +155,6 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
                 probe_warnings += slow_scan.missed_protrusion_warnings(
                     plan, [p for p in pockets if p.slot in missed], by_slot)
             flagged = sorted(set(flagged) | set(jabbed))
-    # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
-    spans = [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
-             for z_in, z_out in latched]
     slot_map = map_slots(plan, spans, flagged, unscanned)
     probe_warnings += two_run_warnings(plan, slot_map, spans)  # "boundary" rules only
     slot_map = slow_scan.with_position_errors(slot_map, swept_off)

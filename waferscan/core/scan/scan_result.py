@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from operator import attrgetter
 
 from ..geometry.beam import LEVEL, PRE_REJECT_SLACK, wafer_bounds
+from ..geometry.ranges import translation_range
 from ..mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
 from ..model import DOWN, SLOW, UP, UPDOWN
 from ..recipe import recipe_fields
@@ -171,6 +172,46 @@ def stepped_intervals(hits, scan, window):
             [None if w is None else span(w) for w in hits.wafer_steps])
 
 
+def stepped_records(hits, scan, wafers):
+    """What a stepped scan without a window (fast mode) makes of an engine's ``StepHits``, in one
+    pass over the wafers: the run spans as ``stepped_intervals(hits, scan, None)`` gives them,
+    each wafer's ``WaferInterval`` (``wafer_records`` of its wafer spans) and each run's wafers
+    as ``run_wafers`` names them. Three passes over a fab's 100 wafers, 75 of them out of the
+    beam's reach, were a sixth of its scan_layout; the same values (tests/core/test_fab_floor.py
+    checks them against the three). The wafer spans themselves are not made: a wafer's is None
+    where its steps (``hits.wafer_steps``) are."""
+    start, step = scan.start_z, scan.z_step
+    run_spans = [(start + first * step, start + last * step) for first, last in hits.runs]
+    bottoms = [bottom for bottom, _ in run_spans]
+    if bottoms != sorted(bottoms):  # not as an engine gives them: run_wafers reorders them
+        _, wafer_spans = stepped_intervals(hits, scan, None)
+        return (run_spans, wafer_records(wafers, wafer_spans),
+                run_wafers(run_spans, wafers, wafer_spans))
+    tops = [top for _, top in run_spans]
+    names = [[] for _ in run_spans]
+    records = []
+    add = records.append
+    for wafer, steps in zip(wafers, hits.wafer_steps):
+        if steps is None:
+            add(WaferInterval(wafer.name, None, None))
+            continue
+        low, high = start + steps[0] * step, start + steps[1] * step
+        name = wafer.name
+        add(WaferInterval(name, low, high))
+        # run_wafers: the runs with top >= low and bottom <= high
+        for j in range(bisect_left(tops, low), bisect_right(bottoms, high)):
+            names[j].append(name)
+    return run_spans, tuple(records), [tuple(n) for n in names]
+
+
+def wafer_records(wafers, wafer_spans):
+    """Each wafer's ``WaferInterval`` from its span (bottom, top), or None where the scan never
+    met it."""
+    return tuple([WaferInterval(w.name, None, None) if span is None else
+                  WaferInterval(w.name, span[0], span[1])
+                  for w, span in zip(wafers, wafer_spans)])
+
+
 def exact_intervals(hits, window):
     def clip(interval):
         if interval is None:
@@ -290,13 +331,16 @@ def carrier_protrusions(carrier, wafers):
     found = []
     wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
     for wafer in wafers:
-        (cx, cy, cz), normal = wafer.center, wafer.normal
+        cx, cy, cz = wafer.center
+        # A level wafer of another carrier, left out by X or Y alone: its normal is read only
+        # when it lies that far (most of a fab's wafers), which a third of the pass was
+        if (cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide) and \
+                wafer.normal == LEVEL:
+            continue
+        normal = wafer.normal
         if normal == LEVEL:
             # n = (0, 0, 1): cz + h * 1 = cz + h, cx + h * 0 = cx (but for a -0.0, which no
-            # distance or sum below tells from 0.0), as for most of a fab's wafers; those of
-            # the other carriers are left out by X or Y alone
-            if cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide:
-                continue
+            # distance or sum below tells from 0.0), as for most of a fab's wafers
             mz = cz + wafer.thickness / 2.0
             if not z_lo <= mz <= z_hi:
                 continue
@@ -482,18 +526,20 @@ def missed_by_beam(layout, beam, wafer_spans):
     and by how much the beam passes beside them (a beam set beside the wafers maps every slot
     empty, silently else). ``wafer_spans``: each wafer's scanned span, None where the scan never met it (the
     only ones looked at again, with the closed form). Returns a tuple of at most one sentence."""
-    from ..geometry.ranges import translation_range
-
     if layout.scan.mode == SLOW:
         # A slow scan's arm may wait in front of the pockets and reach in pocket by pocket
         # (SPEC §13): its beam at rest beside the wafers is how it is meant.
         return ()
     carrier = layout.scanned_carrier.name
-    missed = []
-    for wafer, span in zip(layout.wafers, wafer_spans):
-        if span is None and wafer.carrier in (None, carrier) and \
-                translation_range(beam.emitter, beam, layout.lift_axis, wafer) is None:
-            missed.append((wafer.name, beam_miss(beam, layout.lift_axis, wafer)))
+    mine = (None, carrier)
+    # The scanned carrier's (and the free) wafers the scan never met, in the layout's order:
+    # one comprehension over the wafers, which in a fab are mostly other carriers'
+    unmet = [wafer for wafer, span in zip(layout.wafers, wafer_spans)
+             if span is None and wafer.carrier in mine]
+    if not unmet:
+        return ()
+    missed = [(wafer.name, beam_miss(beam, layout.lift_axis, wafer)) for wafer in unmet
+              if translation_range(beam.emitter, beam, layout.lift_axis, wafer) is None]
     if not missed:
         return ()
     names = ", ".join(name for name, _ in missed[:SHOWN_NAMES])
