@@ -12,7 +12,7 @@ from ..core.errors import InputError
 from ..core.files.mcs import apply_parameters
 from ..core.geometry.beam import beam_hits_wafer
 from ..core.scan.engines import CAD_ENGINES
-from ..core.scan.layout_scan import scan_layout
+from ..robot.scenario_scan import clearance_added, scan_with_clearance
 from .reader import DocumentScene, read_layout
 from .stepping import framed_wafers, mover_for, per_scene, stepper_through_document
 
@@ -58,38 +58,9 @@ def scan_document(doc, engine="analytic", progress=None, parameters=None, check=
         else:
             from .brep import brep_stepper  # Part's B-rep tools load only for this engine
             stepper = brep_stepper(scene, mover)
-    body = limits = None
-    if clearance and layout.scan.mode == "slow" and layout.scan.sweep > 0.0:
-        # SPEC §13 amended: each pocket's sweep turns only as far as the fork stays clear.
-        from ..core.scan.clearance import turn_limits
-
-        body = clearance_body(scene, layout)
-        if body is not None:
-            limits = turn_limits(body, layout.mapping.clearance_min,
-                                 seated=lambda: clearance_body(scene, _seated(layout)))
-    result = scan_layout(layout, engine, progress=progress, stepper=stepper, measure=measure,
-                         turn_limits=limits)
-    if clearance and layout.scan.mode == "slow" and layout.scan.sweep > 0.0 and body is None:
-        from dataclasses import replace
-
-        from ..addon import missing_pinocchio_message
-
-        result = replace(result, warnings=result.warnings + (
-            f"the sweeps turned the whole ±{layout.scan.sweep:g}°, their clearance unchecked: "
-            f"{missing_pinocchio_message()}",))
-    return with_clearance(scene, result, body) if clearance else result
-
-
-def _seated(layout):
-    """The layout with a wafer seated in every slot of its scanned carrier, and no other: what
-    a recipe is judged against."""
-    from dataclasses import replace
-
-    from ..core.scan.slow_scan import seated_wafer
-
-    carrier = layout.scanned_carrier
-    return replace(layout, wafers=tuple(seated_wafer(carrier, slot)
-                                        for slot in range(1, carrier.slot_count + 1)))
+    return scan_with_clearance(layout, engine, lambda chosen: clearance_body(scene, chosen),
+                               clearance=clearance, progress=progress, stepper=stepper,
+                               measure=measure)
 
 
 def clearance_body(scene, layout):
@@ -125,20 +96,10 @@ def with_clearance(scene, result, body=None):
     ``clearance_body``) against the wafers and the scanned carrier's solids, each contact a
     warning; a sweep's motion is the one it made (its pockets' reached angles). Unchanged when
     coal is missing."""
-    from dataclasses import replace
-
-    layout = result.layout
-    body = body or clearance_body(scene, layout)
+    body = body or clearance_body(scene, result.layout)
     if body is None:  # without pinocchio (and coal): nothing to check with
         return result
-    from ..core.mapping import UNSCANNED
-    from ..robot.clearance import clearance_for
-
-    probes = {p.slot: p for p in result.pockets}
-    pockets = [probes.get(s.slot, s.slot) for s in result.slot_map.slots
-               if s.state != UNSCANNED]
-    report = clearance_for(layout, body, pockets)
-    return replace(result, clearance=report, warnings=result.warnings + report.warnings())
+    return clearance_added(result, body)
 
 
 _CONVERTED = []  # [(the carrier's shapes last converted, their placements, what they became)]

@@ -16,6 +16,7 @@ from __future__ import annotations
 import FreeCAD as App
 import Part
 
+from ..core.geometry.carrier_body import carrier_boxes
 from ..core.model import DIRECTIONS, MODES
 from . import roles
 from .role_properties import PLAIN_NAMES, PER_CORE_UNIT, SETTINGS, property_named, to_property
@@ -140,33 +141,12 @@ class _Proxy:
 def carrier_solids(slot_count, pitch, wafer_diameter, support_span):
     """A FOUP-like body in the carrier's frame (origin at slot 1's seat centre, X across, -Y out
     of the opening, Z up): side walls, back wall, floor, roof, and a left and a right support
-    ledge under every slot whose inner edges are ``support_span`` apart."""
-    r = wafer_diameter / 2.0
-    wall = 4.0
-    inner = r + 6.0  # wall to wafer rim clearance: 6 mm
-    front, back = -r - 5.0, r + 10.0
-    # The opening leaves the fork room above the top slot and below the first: a stroke from
-    # 1.4 pitches under slot 1's seat to 1.6 over the top slot's (the paper's 280 to 550, its
-    # tines 4 mm tall) stays 5 mm or more from the floor and the roof (SPEC §15).
-    bottom, top = -2.0 * pitch - wall, (slot_count + 1.5) * pitch
-    height = top - bottom
-    boxes = [
-        Part.makeBox(wall, back - front, height, App.Vector(-inner - wall, front, bottom)),
-        Part.makeBox(wall, back - front, height, App.Vector(inner, front, bottom)),
-        Part.makeBox(2 * (inner + wall), wall, height, App.Vector(-inner - wall, back, bottom)),
-        Part.makeBox(2 * (inner + wall), back - front + wall, wall,
-                     App.Vector(-inner - wall, front, bottom)),
-        Part.makeBox(2 * (inner + wall), back - front + wall, wall,
-                     App.Vector(-inner - wall, front, top)),
-    ]
-    ledge_depth, ledge_thickness = 1.1 * r, 1.5
-    ledge_width = inner - support_span / 2.0
-    for slot in range(slot_count):
-        seat = slot * pitch
-        for x in (-inner, support_span / 2.0):
-            boxes.append(Part.makeBox(ledge_width, ledge_depth, ledge_thickness,
-                                      App.Vector(x, -ledge_depth / 2.0, seat - ledge_thickness)))
-    return Part.makeCompound(boxes)
+    ledge under every slot whose inner edges are ``support_span`` apart; the boxes of
+    ``core.geometry.carrier_body.carrier_boxes``, which the clearance check of a scenario
+    scanned without its document takes too."""
+    return Part.makeCompound([Part.makeBox(*size, App.Vector(*corner))
+                              for _, corner, size in carrier_boxes(slot_count, pitch,
+                                                                   wafer_diameter, support_span)])
 
 
 class CarrierBody(_Proxy):

@@ -224,8 +224,8 @@ def _corners_box(points):
     low, high = local.min(axis=0), local.max(axis=0)
     tolerance = 1e-6 * max(1.0, float(lengths.max()))
     corners = np.abs(local[:, None, :] - np.stack([low, high])[None, :, :]).min(axis=1)
-    if np.any(corners > tolerance) or len({tuple(np.round((c - low) / (high - low)))
-                                          for c in local}) != 8:
+    if np.any(corners > tolerance) or len(
+            {tuple(c) for c in np.round((local - low) / (high - low)).tolist()}) != 8:
         return None
     return 0.5 * (high - low), rotation, points[0] + rotation @ (0.5 * (low + high))
 
