@@ -64,8 +64,7 @@ def test_the_floor_and_the_beam_tilt_are_judged_against_their_ratios():
 def test_the_floor_sweeps_the_same_layouts_in_distribution():
     """The bench's numpy floor (bench/sweep_floor.py) does the sweep's work, not less: over
     20,000 layouts of the paper under fab_tolerances its confusion counts agree with the
-    sweep's in distribution (its draws are its own): every placed state's share, and the share
-    reported as placed, within 1.5 points."""
+    sweep's in distribution (its draws are its own), cell by cell."""
     import numpy as np
     from scenarios import PAPER, ROOT
 
@@ -84,6 +83,9 @@ def test_the_floor_sweeps_the_same_layouts_in_distribution():
         for j, reported in enumerate(STATE_KEYS):
             product[i, j] = summary["confusion"].get(truth, {}).get(reported, 0)
     assert floor.sum() == product.sum() == 20_000 * 25
-    assert np.allclose(floor.sum(axis=1) / floor.sum(), product.sum(axis=1) / product.sum(),
-                       atol=0.015)
-    assert abs(np.trace(floor) / floor.sum() - np.trace(product) / product.sum()) < 0.015
+    # Every cell (placed x reported) as a share of the slots: within 0.3 points (statistical
+    # spread ~0.05), so the floor maps as SPEC §4 does (position before thickness, the double
+    # limit, the worst finding, a second run), not only places as the sweep does.
+    assert np.allclose(floor / floor.sum(), product / product.sum(), atol=0.003)
+    # present and double -> position error: position judged first
+    assert floor[1, 5] > 0.05 * floor[1].sum() and floor[3, 5] > 0
