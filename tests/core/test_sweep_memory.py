@@ -59,7 +59,7 @@ def test_margins_drawn_again_give_the_summary_of_margins_kept(rules, monkeypatch
 
 @pytest.mark.parametrize("kept", [10 ** 9, 4000])
 def test_margins_kept_whole_are_not_drawn_again(kept, monkeypatch):
-    """A kind of margin past DISTINCT_LIMIT is kept whole in a partition of no more than
+    """A kind of margin past DISTINCT_LIMIT is kept whole in a sweep of no more than
     MARGINS_KEPT slots (no second pass), and in a larger one counted in a histogram (a second pass):
     the summary and histograms byte for byte those of every margin kept as distinct values."""
     monkeypatch.setattr(margins, "DISTINCT_LIMIT", 10 ** 9)
@@ -82,7 +82,7 @@ def test_margins_kept_whole_are_not_drawn_again(kept, monkeypatch):
         assert all(isinstance(p, np.ndarray) for p in position) and not redrawn
         assert sum(len(p) for p in position) == got["margins"]["position"]["count"]
         assert all((np.diff(p) >= 0).all() for p in position)
-    else:  # 5,000 to 25,000 slots a partition: more than 2,000, so none kept
+    else:  # 55,000 slots in the sweep: more than 4,000, so none kept
         assert not any(isinstance(p, np.ndarray) for p in position) and redrawn
 
 

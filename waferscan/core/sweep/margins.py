@@ -6,8 +6,8 @@ which answers every order statistic exactly. When they are too many (readings of
 latching in motion, a beam spot, a thickness correction), it keeps a histogram over the
 values' order keys instead and, asked later for the margins between two values, draws and
 scans its blocks again: block b's draws are SeedSequence(seed, spawn_key=(b,))'s, so the
-second pass sees the same margins, in the same floats, as the first. A partition of no more
-than MARGINS_KEPT slots keeps them all instead, sorted (tally.py), and needs no second pass.
+second pass sees the same margins, in the same floats, as the first. A sweep of no more than
+MARGINS_KEPT slots keeps them all instead, sorted (tally.py), and needs no second pass.
 
 Order keys: the float64 values as unsigned 64-bit integers in the same order (-0.0 as 0.0),
 so that a histogram's bins can be halved down to single values in a bounded number of steps.
@@ -21,11 +21,11 @@ import math
 # falls back on a histogram: 16 bytes each, 4 MB (~10,000 layouts of 25 slots whose margins
 # are all different: smaller sweeps are never drawn twice).
 DISTINCT_LIMIT = 1 << 18
-# A partition of at most this many slots (layouts x slots) keeps its margins whole besides
-# their MarginTally (8 bytes each, at most 32 MB a kind), so that a kind that falls back on a
-# histogram is not drawn and scanned again: a 100,000-layout sweep of 25 slots in one
-# partition (~2.3 million margins off the step grid, latched in motion) took twice its first
-# pass before. A larger partition keeps none: its memory does not grow with N.
+# A sweep of at most this many slots (N layouts x slots) keeps its margins whole besides their
+# MarginTally (8 bytes each, at most 32 MB a kind over all its partitions), so that a kind that
+# falls back on a histogram is not drawn and scanned again: a 100,000-layout sweep of 25 slots
+# (~2.3 million margins off the step grid, latched in motion) took twice its first pass
+# before. A larger sweep keeps none: its memory does not grow with N.
 MARGINS_KEPT = 1 << 22
 # The first pass's histogram: the top COARSE_BITS bits of the order key (sign, exponent and
 # 6 bits of mantissa: 64 bins a binade), 262,144 bins (2 MB).

@@ -7,7 +7,7 @@ from __future__ import annotations
 from .. import mapping
 from ..mapping import CROSS, DOUBLE, POSITION_ERROR, PRESENT, THIN
 from .block_scan import UNSCANNED, needs_scalar_path, scalar_block, scan_block, spot_block
-from .draws import block_size, draw_block, layouts_in
+from .draws import block_size, draw_block
 from .margins import MARGINS_KEPT, MarginTally
 
 # Summary names, indexed by state code (SPEC §12).
@@ -150,7 +150,7 @@ def partition_tally(base, tolerances, seed, n, blocks):
     is built from, and the margins of the truly present wafers (core/sweep/margins.py's
     MarginTally: their distinct values with counts, or a histogram of them), counted block by
     block in memory that does not grow with N: a kind of margin whose distinct values outgrow
-    its MarginTally is kept whole, sorted, in a partition of at most MARGINS_KEPT slots.
+    its MarginTally is kept whole, sorted, in a sweep of at most MARGINS_KEPT slots.
     ``source`` is what draws the blocks again when the reduction needs margins a histogram does
     not hold (``reduce_partitions``)."""
     import numpy as np
@@ -167,11 +167,12 @@ def partition_tally(base, tolerances, seed, n, blocks):
         clearance = {"layouts": 0, "contacts": 0,
                      "by_part": np.zeros(len(base.clearance.body.parts), dtype=np.int64),
                      "by_slot": np.zeros(base.carrier.slot_count, dtype=np.int64)}
-    # Each block's margins, kept when the partition cannot hold more than MARGINS_KEPT of a
+    # Each block's margins, kept when the whole sweep cannot hold more than MARGINS_KEPT of a
     # kind (one per slot and layout): a kind whose distinct values outgrow its MarginTally then
-    # needs no second pass over the blocks (margins.py). Decided before the first block, so
-    # that a partition's memory never grows with its N.
-    keep = layouts_in(n, blocks) * base.carrier.slot_count <= MARGINS_KEPT
+    # needs no second pass over the blocks (margins.py). Decided by N before the first block,
+    # so that neither a partition's memory nor all partitions' together (held until the
+    # reduction) grows past it, however many partitions there are.
+    keep = n * base.carrier.slot_count <= MARGINS_KEPT
     kept = {key: [] if keep else None for key in margins}
     for tally in block_tallies(base, tolerances, seed, n, blocks):
         confusion += tally["confusion"]
