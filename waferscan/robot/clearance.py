@@ -55,6 +55,12 @@ BOW_RINGS = 24  # rings of a bowed wafer's surfaces
 BOW_SIDES = 128  # points on each ring (coal's hull allows a vertex at most 255 neighbours)
 
 
+# _nearest: with more obstacles than NEAR_BAND_FROM, those within NEAR_BAND mm of the parts
+# along Z are weighed first (the answer when one is nearer than that).
+NEAR_BAND_FROM = 200
+NEAR_BAND = 100.0
+
+
 def _frame_z(axis):
     """A rotation whose third column is the unit ``axis`` (scalar arithmetic: numpy's cross
     costs more than the rest of a wafer's set-up)."""
@@ -413,27 +419,55 @@ class _Body:
     def _nearest(self, parts):
         """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
         pairs in the order of their bounding spheres' distance, until that is no less than the
-        least distance found."""
+        least distance found. First among the obstacles within NEAR_BAND mm of the parts
+        along Z, which is the answer when it is nearer than that; else among them all."""
         best = (math.inf, "", "", None, None)
         if not self.obstacles.items or not parts:
             return best
         obstacles = self.obstacles
         centres = np.array([part[3] for part in parts])
         radii = np.array([_bound_radius(part[1]) for part in parts])
-        gaps = (np.linalg.norm(centres[:, None, :] - obstacles.centres[None, :, :], axis=2)
-                - radii[:, None] - obstacles.radii[None, :])
+        if len(obstacles.items) > NEAR_BAND_FROM:
+            # A stocker's 10,000 wafers: the parts meet a few of them at a time, and every pair
+            # weighed at every pose made a scan's clearance quadratic in the wafers (254 s of
+            # a 10,000-wafer scan). An obstacle whose box lies NEAR_BAND mm or more above or
+            # below every part's bounding sphere is at least that far from the parts.
+            bottom = float(np.min(centres[:, 2] - radii)) - NEAR_BAND
+            top = float(np.max(centres[:, 2] + radii)) + NEAR_BAND
+            near = np.flatnonzero((obstacles.highs[:, 2] > bottom) & (obstacles.lows[:, 2] < top))
+            best = self._nearest_among(parts, centres, radii, near, best)
+            if best[0] < NEAR_BAND:
+                return best
+            best = (math.inf, "", "", None, None)
+        return self._nearest_among(parts, centres, radii, None, best)
+
+    def _nearest_among(self, parts, centres, radii, among, best):
+        """``_nearest`` over the obstacles ``among`` (indices, ascending; None: all)."""
+        obstacles = self.obstacles
+        o_centres, o_radii = obstacles.centres, obstacles.radii
+        lows, highs = obstacles.lows, obstacles.highs
+        if among is not None:
+            if not len(among):
+                return best
+            o_centres, o_radii, lows, highs = (o_centres[among], o_radii[among], lows[among],
+                                               highs[among])
+        gaps = (np.linalg.norm(centres[:, None, :] - o_centres[None, :, :], axis=2)
+                - radii[:, None] - o_radii[None, :])
         if obstacles.carrier_count:
             # A wall or a floor is long and thin: its box bounds it far better than a sphere.
-            outside = np.maximum(np.maximum(obstacles.lows[None, :, :] - centres[:, None, :],
-                                            centres[:, None, :] - obstacles.highs[None, :, :]),
+            outside = np.maximum(np.maximum(lows[None, :, :] - centres[:, None, :],
+                                            centres[:, None, :] - highs[None, :, :]),
                                  0.0)
             gaps = np.maximum(gaps, np.linalg.norm(outside, axis=2) - radii[:, None])
         count = gaps.shape[1]
         transforms = {}
-        for flat in np.argsort(gaps, axis=None):
-            i, index = divmod(int(flat), count)
-            if gaps[i, index] >= best[0]:
+        # Stable: pairs whose bounds tie are weighed in the order of the obstacles, the same
+        # order whichever obstacles are among them.
+        for flat in np.argsort(gaps, axis=None, kind="stable"):
+            i, column = divmod(int(flat), count)
+            if gaps[i, column] >= best[0]:
                 break
+            index = column if among is None else int(among[column])
             name, geometry, rotation, translation, _ = parts[i]
             if i not in transforms:
                 transforms[i] = coal.Transform3s(rotation, translation)

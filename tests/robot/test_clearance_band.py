@@ -1,0 +1,63 @@
+"""Many obstacles (a stocker's stack of FOUPs): the nearest pair is looked for among the
+obstacles within NEAR_BAND mm of the parts along Z first (robot/clearance.py), which made a
+10,000-wafer scan's clearance linear instead of quadratic in the wafers (254 s). The same
+reports, to the last bit, as weighing every obstacle at every pose."""
+
+import json
+
+import pytest
+
+from waferscan.bench.workloads import stack_scenario
+from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.scan.clearance import closest_dict
+from waferscan.robot import clearance
+from waferscan.robot.clearance import clearance_for
+
+
+def _report(layout, carrier):
+    report = clearance_for(layout, carrier=carrier)
+    return json.dumps([closest_dict(c) for c in report.closest], sort_keys=True)
+
+
+@pytest.mark.parametrize("foups, with_carrier", [(10, False), (10, True), (2, False)])
+def test_the_band_gives_every_obstacles_answer(monkeypatch, foups, with_carrier):
+    """A stack of FOUPs scanned by the scanner's heads: with the FOUPs' solids the heads run
+    through every roof (contacts, so the motion is searched pose by pose, thousands of poses);
+    without them the stroke's swept answer is exact at once."""
+    from waferscan.robot.scenario_scan import carrier_solids
+
+    layout = parse_scenario(stack_scenario(foups), "stack.toml")
+    carrier = carrier_solids(layout) if with_carrier else ()
+    calls = []
+    among = clearance._Body._nearest_among
+    monkeypatch.setattr(clearance._Body, "_nearest_among",
+                        lambda self, *a: calls.append(a[3] is not None) or among(self, *a))
+    banded = _report(layout, carrier)
+    obstacles = len(clearance.body_for(layout, carrier).obstacles.items)
+    assert any(calls) == (obstacles > clearance.NEAR_BAND_FROM)
+    if with_carrier:
+        assert len(calls) > 1000 and '"distance": -' in banded  # through the roofs
+    monkeypatch.setattr(clearance, "NEAR_BAND_FROM", 10 ** 9)  # every obstacle, every pose
+    assert _report(layout, carrier) == banded
+
+
+def test_an_obstacle_outside_the_band_is_still_found():
+    """Nothing within the band nearer than NEAR_BAND: every obstacle is weighed (a lone wafer
+    200 mm above the parts is the nearest, as it is without the band)."""
+    from dataclasses import replace
+
+    from waferscan.core.model import Wafer
+
+    layout = parse_scenario(stack_scenario(10), "stack.toml")
+    far = [Wafer(f"FAR{i:03d}", (0.0, 3000.0 + 400.0 * i, 5000.0), (0.0, 0.0, 1.0), 300.0, 0.7)
+           for i in range(250)]
+    layout = replace(layout, wafers=tuple(far), robot=None)
+    body = clearance.body_for(layout)
+    motion = next(iter(clearance_for(layout).closest)).motion
+    banded = body.nearest(motion, motion.start)
+    clearance.NEAR_BAND_FROM, saved = 10 ** 9, clearance.NEAR_BAND_FROM
+    try:
+        assert body.nearest(motion, motion.start) == banded
+    finally:
+        clearance.NEAR_BAND_FROM = saved
+    assert banded[0] > clearance.NEAR_BAND and banded[2].startswith("FAR")
