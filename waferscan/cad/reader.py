@@ -1,6 +1,7 @@
 """FreeCAD document -> core ``Layout``, through the global placements of what the 3D view shows.
 
-A wafer's centre, normal, diameter and thickness come from its solid; a carrier's slots from its
+A wafer's centre, normal, diameter and thickness come from its solid (a whole cylinder's
+from its properties when it has no shape: ``cylinder_read``); a carrier's slots from its
 properties and the placement of its slot origin; the beam from the scanner's emitter and
 receiver; the scan parameters from the ScanSettings object (defaults when there is none).
 """
@@ -12,6 +13,7 @@ from collections import Counter
 from dataclasses import dataclass
 
 import FreeCAD as App
+import Part
 
 from ..core import schema
 from ..core.errors import InputError
@@ -20,8 +22,9 @@ from ..core.model import Beam, Carrier, Layout, MappingTolerances, ScanParameter
 from ..core.rules import (SEVERAL_CARRIERS, carrier_choice_problem, slots_scan_range,
                           thickness_tolerance_from_stored)
 from . import roles
-from .disc import NotADisc, bowed_disc_of, disc_of
+from .disc import NotADisc, bowed_disc_of, cylinder_disc, disc_of, whole_disc_of
 from .features import RANGE_FROM_CARRIER, SETTINGS_PROPERTIES
+from .features import Wafer as FlatWafer
 from .role_properties import SENSOR_PROPERTIES, SLOW_SCAN_PROPERTIES, from_property
 from .scene import scene_instances
 from .sensor_properties import read_sensor_settings
@@ -78,6 +81,11 @@ def wafer_from(instance, name):
     bowed wafers were drawn bowed, reads the same)."""
     holder = roles.role_holder(instance.obj)
     bow = _value(holder.Bow) if "Bow" in holder.PropertiesList else 0.0  # SPEC §10
+    reading = cylinder_read(instance)
+    if reading is not None:
+        center, normal, diameter, thickness = reading
+        return Wafer(name=name, center=center, normal=normal, diameter=diameter,
+                     thickness=thickness, bow=bow)
     shape = instance.shape()
     try:
         try:
@@ -91,6 +99,56 @@ def wafer_from(instance, name):
                          f"{instance.path} is tagged as a wafer but {exc}") from None
     return Wafer(name=name, center=center, normal=normal, diameter=diameter,
                  thickness=thickness, bow=bow)
+
+
+_STALE = {"Invalid", "Error"}  # a recompute failed: what the properties say was never made
+
+
+def cylinder_read(instance):
+    """(center, normal, diameter, thickness) of a wafer instance that is a whole cylinder (a
+    Part::Cylinder of 360°, not skewed; a flat WaferScan wafer), read without ``disc_of``'s
+    volume integration: off its B-rep when it has one (``disc.whole_disc_of``: the same
+    floats), else from its properties (``disc.cylinder_disc``: the floats of the B-rep a
+    recompute would give it; a layout saved without the wafers' shapes). None when it is no
+    such cylinder, or when without a B-rep it is one that the properties do not place simply
+    (through a link, nested deeper than one App::Part, or left in error by a recompute):
+    ``disc_of`` reads or refuses it then.
+
+    Why not from the properties when there is a B-rep: FreeCAD 0.20 writes a Placement's
+    quaternion with 16 decimals, which does not give back every component below 0.1 (a tilted
+    wafer's), while the B-rep keeps its transform exactly: reopened, such a wafer's Placement
+    is up to ~1e-17 off the one its B-rep was placed by, and the two readings differ in the
+    last bits."""
+    holder = instance.target
+    kind = holder.TypeId
+    if kind == "Part::Cylinder":
+        # Angle: a sector; FirstAngle/SecondAngle (0.20+): the ends skewed, a slanted prism.
+        skews = [p for p in ("FirstAngle", "SecondAngle") if p in holder.PropertiesList]
+        if float(holder.getPropertyByName("Angle")) != 360.0 or any(
+                float(holder.getPropertyByName(p)) != 0.0 for p in skews):
+            return None
+    elif kind != "Part::FeaturePython" or type(getattr(holder, "Proxy", None)) is not FlatWafer:
+        return None
+    radius = float(holder.getPropertyByName("Radius"))
+    height = float(holder.getPropertyByName("Height"))
+    if not (radius > 0.0 and height > 0.0):
+        return None  # disc_of names what is wrong
+    try:
+        shape = Part.getShape(instance.root, instance.sub)
+    except ReferenceError:
+        return None  # gone: instance.shape() says so
+    if not shape.isNull():
+        return whole_disc_of(shape)
+    obj, sub = instance.obj, instance.sub
+    if obj is not holder or _STALE.intersection(obj.State):
+        return None
+    if not sub:
+        frame = None
+    elif sub == obj.Name + "." and instance.root.TypeId == "App::Part":
+        frame = instance.root.getPropertyByName("Placement").toMatrix()
+    else:
+        return None
+    return cylinder_disc(radius, height, obj.getPropertyByName("Placement").toMatrix(), frame)
 
 
 def carrier_from(instance):
