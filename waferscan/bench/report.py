@@ -16,7 +16,7 @@ from .targets import contract_entries
 from .workloads import (bench_fab, bench_paper, bench_spot, bench_steps, bench_sweep,
                         bench_wafers, paper_layout, vector_peak_memory)
 
-__all__ = ["run_bench", "format_row"]
+__all__ = ["run_bench", "bench_floors", "format_row"]
 
 
 def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, only=None):
@@ -34,6 +34,10 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, on
     if only == "sweep":  # `waferscan bench --only sweep`: the sweeps' figures alone
         report["sweep"] = bench_sweep(paper, rounds, add, quick)
         report["contract"] = contract_entries(report, only="sweep")
+        return report
+    if only == "floors":  # `waferscan bench --only floors`: the figures beside their floors
+        report["floors"] = bench_floors(rounds, quick)
+        report["contract"] = contract_entries(report, only="floor")
         return report
     if only == "host":  # `waferscan bench --only host`: the host link's figures alone
         report["host"] = bench_host(scenario_path, 20 if quick else 100, add)
@@ -70,9 +74,25 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, on
                 report["gui_animation"] = gui_animation(layout_path)
         except (RuntimeError, OSError, ValueError, subprocess.SubprocessError) as exc:
             report["gui_error"] = str(exc)
+    report["floors"] = bench_floors(rounds, quick)
     report["sweep"] = bench_sweep(paper, rounds, add, quick)
     report["contract"] = contract_entries(report)
     return report
+
+
+def bench_floors(rounds, quick=False):
+    """SPEC §9 amended (issue 30): what the same work costs written plainly, each beside the
+    product's figure in interleaved rounds: fab's ``scan_layout`` and the closed form in plain
+    Python (bench/fab_floor.py); `waferscan scan` of a scenario and the `freecadcmd` floor
+    (bench/scenario_scan.py); `waferscan scan` of a 10,000-wafer layout (1,000 with
+    ``quick``) and FreeCAD's own open + placement read of it (bench/documents.py)."""
+    from .documents import bench_document_floor
+    from .fab_floor import bench_fab_floor
+    from .scenario_scan import bench_scenario_scan
+
+    return {"fab": bench_fab_floor(rounds),
+            "scenario": bench_scenario_scan(3 if quick else 7),
+            "document": bench_document_floor(2 if quick else 3, quick=quick)}
 
 
 def format_row(r):

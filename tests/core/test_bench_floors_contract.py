@@ -1,0 +1,37 @@
+"""The bench's floors (SPEC §9 amended, issue 30) read from a report: each figure beside its
+floor, judged against its ratio."""
+
+from waferscan import bench
+
+
+def floors(fab=1.5, document=1.8, wafers=10_000, scenario=0.9):
+    return {"results": [], "floors": {
+        "fab": {"scan_layout": 60e-6, "floor": 40e-6, "ratio": fab},
+        "document": {"scan": 3.6, "floor": 2.0, "ratio": document, "wafers": wafers,
+                     "file_bytes": 6_800_000},
+        "scenario": {"scan": 0.45, "floor": 0.5, "ratio": scenario}}}
+
+
+def floor_lines(report):
+    return [(met, text) for met, text in bench.contract(report) if "floor:" in text]
+
+
+def test_each_figure_is_judged_beside_its_floor():
+    lines = floor_lines(floors())
+    assert [met for met, _ in lines] == [True, True, True]
+    assert lines[0][1] == ("fab scan_layout 60 us = 1.50x the closed form written plainly (40 us, "
+                           "the same runs and slot code; floor: <= 2x)")
+    assert lines[1][1] == ("waferscan scan of a 10,000-wafer .FCStd (6.8 MB): 3.60 s = 1.80x "
+                           "FreeCAD's own open + placement read (2.00 s; floor: <= 2x)")
+    assert lines[2][1].startswith("waferscan scan paper.toml: 0.450 s = 0.90x freecadcmd -c")
+    lines = floor_lines(floors(fab=2.1, document=2.5, scenario=1.05))
+    assert [met for met, _ in lines] == [False, False, False]
+
+
+def test_a_quick_run_does_not_judge_the_document_floor():
+    met, text = floor_lines(floors(wafers=1_000, document=1.2))[1]
+    assert met is None and text.endswith("not the contract's 10,000 (--quick)")
+
+
+def test_no_floors_measured_adds_no_line():
+    assert floor_lines({"results": []}) == []
