@@ -371,6 +371,19 @@ class Obstacles:
         self.radii = np.array([item[5] for item in self.items])
         self.lows = np.array([item[6] for item in self.items]).reshape(-1, 3)
         self.highs = np.array([item[7] for item in self.items]).reshape(-1, 3)
+        # For within_z: the boxes by their bottoms, and the tallest box's height.
+        self._by_bottom = np.argsort(self.lows[:, 2], kind="stable")
+        self._bottoms = self.lows[self._by_bottom, 2]
+        self._tallest = float(np.max(self.highs[:, 2] - self.lows[:, 2])) if self.items else 0.0
+
+    def within_z(self, bottom, top):
+        """The indices (ascending) of the obstacles whose boxes reach into (bottom, top) along Z:
+        a bisection of the boxes' bottoms (no box is taller than the tallest), not a pass over
+        them all."""
+        first = int(np.searchsorted(self._bottoms, bottom - self._tallest, side="left"))
+        last = int(np.searchsorted(self._bottoms, top, side="left"))
+        found = self._by_bottom[first:last]
+        return np.sort(found[self.highs[found, 2] > bottom])
 
 
 def _slot_of(carrier, wafer):
@@ -434,8 +447,8 @@ class _Body:
             # below every part's bounding sphere is at least that far from the parts.
             bottom = float(np.min(centres[:, 2] - radii)) - NEAR_BAND
             top = float(np.max(centres[:, 2] + radii)) + NEAR_BAND
-            near = np.flatnonzero((obstacles.highs[:, 2] > bottom) & (obstacles.lows[:, 2] < top))
-            best = self._nearest_among(parts, centres, radii, near, best)
+            best = self._nearest_among(parts, centres, radii, obstacles.within_z(bottom, top),
+                                       best)
             if best[0] < NEAR_BAND:
                 return best
             best = (math.inf, "", "", None, None)
