@@ -384,8 +384,11 @@ def cmd_bench(args):
         if not args.json:
             print(bench.format_row(row), flush=True)
 
+    load = os.getloadavg()  # the machine's load, stated beside the figures (issue 30)
     report = bench.run_bench(paper_scenario(), quick=args.quick, gui=not args.no_gui,
                              mcs=not args.no_mcs, progress=show, only=args.only)
+    report["load_average"] = {"start": list(load), "end": list(os.getloadavg()),
+                              "cores": os.cpu_count()}
     if args.plot:
         bench.plot(report, args.plot)
     if args.json:
@@ -393,6 +396,11 @@ def cmd_bench(args):
     elif "contract" in report:  # --only host measures figures SPEC §9 sets no target for
         print()
         print(bench.format_contract(report))
+    if not args.json:
+        start, end = report["load_average"]["start"], report["load_average"]["end"]
+        print(f"\nload average (1, 5, 15 min) at the start {start[0]:.2f}, {start[1]:.2f}, "
+              f"{start[2]:.2f}; at the end {end[0]:.2f}, {end[1]:.2f}, {end[2]:.2f} "
+              f"({report['load_average']['cores']} cores)")
     return 0
 
 
