@@ -28,13 +28,9 @@ def _summary_and_histograms(n, seed, rules, count):
     return sweep.summarise(base, tol, n, seed, tally), tally["histograms"]
 
 
-@pytest.mark.parametrize("rules", [WAFERSCAN, BOUNDARY])
-def test_margins_drawn_again_give_the_summary_of_margins_kept(rules, monkeypatch):
-    # Every margin kept (a limit no partition reaches): the summary as before issue 25.
-    monkeypatch.setattr(margins, "DISTINCT_LIMIT", 10 ** 9)
-    kept, kept_hists = _summary_and_histograms(2200, 7, rules, 3)
-    # Limits that send the partitions, then their brackets, to histograms: one, two and up to
-    # four rounds of drawing the blocks again.
+def _watched(monkeypatch):
+    """(tallies, redrawn): lists the partitions' tallies and the sources drawn again are
+    appended to as the sweep runs."""
     tallies, redrawn = [], []
     partition_tally, partition_margins = sweep.tally.partition_tally, \
         sweep.reduction.partition_margins
@@ -42,6 +38,17 @@ def test_margins_drawn_again_give_the_summary_of_margins_kept(rules, monkeypatch
                         lambda *a: tallies.append(partition_tally(*a)) or tallies[-1])
     monkeypatch.setattr(sweep.reduction, "partition_margins",
                         lambda source: redrawn.append(source) or partition_margins(source))
+    return tallies, redrawn
+
+
+@pytest.mark.parametrize("rules", [WAFERSCAN, BOUNDARY])
+def test_margins_drawn_again_give_the_summary_of_margins_kept(rules, monkeypatch):
+    # Every margin kept (a limit no partition reaches): the summary as before issue 25.
+    monkeypatch.setattr(margins, "DISTINCT_LIMIT", 10 ** 9)
+    kept, kept_hists = _summary_and_histograms(2200, 7, rules, 3)
+    # Limits that send the partitions, then their brackets, to histograms: one, two and up to
+    # four rounds of drawing the blocks again.
+    tallies, redrawn = _watched(monkeypatch)
     monkeypatch.setattr(sweep.tally, "MARGINS_KEPT", 0)  # histograms, none kept whole
     for limit in (1, 5, 300):
         monkeypatch.setattr(margins, "DISTINCT_LIMIT", limit)
@@ -66,13 +73,7 @@ def test_margins_kept_whole_are_not_drawn_again(kept, monkeypatch):
     expected, expected_hists = _summary_and_histograms(2200, 7, WAFERSCAN, 3)
     monkeypatch.setattr(margins, "DISTINCT_LIMIT", 300)
     monkeypatch.setattr(sweep.tally, "MARGINS_KEPT", kept)
-    tallies, redrawn = [], []
-    partition_tally, partition_margins = sweep.tally.partition_tally, \
-        sweep.reduction.partition_margins
-    monkeypatch.setattr(sweep.run, "partition_tally",
-                        lambda *a: tallies.append(partition_tally(*a)) or tallies[-1])
-    monkeypatch.setattr(sweep.reduction, "partition_margins",
-                        lambda source: redrawn.append(source) or partition_margins(source))
+    tallies, redrawn = _watched(monkeypatch)
     got, hists = _summary_and_histograms(2200, 7, WAFERSCAN, 3)
     assert json.dumps(got) == json.dumps(expected)
     for key, (counts, edges) in expected_hists.items():
