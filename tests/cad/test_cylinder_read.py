@@ -235,3 +235,24 @@ def test_only_whole_cylinders_and_simply_placed_ones_without_a_shape(documents):
     assert bits(cylinder_read(instance_of(doc, "Touched"))) == bits(before)
     doc.recompute()
     assert cylinder_read(instance_of(doc, "Touched"))[2] == 2.0 * float(touched.Radius)
+
+
+@pytest.mark.parametrize("scale", [(1.0, 1.0, 1.5), (1.0, 1.0, -1.0)])
+def test_a_wafer_scaled_out_of_a_disc_is_bad_input(tmp_path, capsys, scale):
+    """A wafer reached through a link that scales it (no disc once placed) is refused as before
+    the cylinder read, naming the object: exit 2, not a traceback (a second reader's case)."""
+    from waferscan import cli
+
+    doc = build_document(read_scenario(EXAMPLES[0]), "scaled")
+    wafer = next(o for o in doc.Objects if roles.role_of(o) == roles.WAFER)
+    link = doc.addObject("App::Link", "Scaled")
+    link.LinkedObject = wafer
+    link.ScaleVector = V(*scale)
+    doc.recompute()
+    path = tmp_path / "scaled.FCStd"
+    save_document(doc, str(path))
+    App.closeDocument(doc.Name)
+    assert cli.main(["scan", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"waferscan: error: {path}") and "Scaled" in err
+    assert "is tagged as a wafer but" in err and "Traceback" not in err

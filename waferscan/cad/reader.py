@@ -138,7 +138,10 @@ def cylinder_read(instance):
     except ReferenceError:
         return None  # gone: instance.shape() says so
     if not shape.isNull():
-        return whole_disc_of(shape)
+        try:
+            return whole_disc_of(shape)
+        except NotADisc:
+            return None  # not a disc once placed (a link's scale): disc_of says why
     obj, sub = instance.obj, instance.sub
     if obj is not holder or _STALE.intersection(obj.State):
         return None
