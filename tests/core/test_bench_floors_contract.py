@@ -35,3 +35,25 @@ def test_a_quick_run_does_not_judge_the_document_floor():
 
 def test_no_floors_measured_adds_no_line():
     assert floor_lines({"results": []}) == []
+
+
+def test_a_failed_floor_is_said_and_the_rest_measured(monkeypatch):
+    """A floor measure that fails (a process that errs, one that times out) is kept in the
+    report as an error, a NOT MET line naming why, not an end of the bench."""
+    import subprocess
+
+    from waferscan.bench import report as bench_report
+
+    for failure in (RuntimeError("waferscan scan exited 1"),
+                    subprocess.TimeoutExpired(["waferscan", "layout"], 600)):
+        def failing(rounds, quick=False, failure=failure):
+            raise failure
+
+        monkeypatch.setattr(bench_report, "bench_floors", failing)
+        report = {"results": []}
+        bench_report.measure_floors(report, 1, quick=True)
+        assert "floors" not in report
+        lines = [(met, text) for met, text in bench.contract(report)
+                 if text.startswith("floors")]
+        assert lines == [(False, "floors: the measure failed: "
+                                 f"{type(failure).__name__}: {failure}")]

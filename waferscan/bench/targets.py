@@ -97,6 +97,8 @@ def contract(report):
                            f"headless {what}: {seconds:.3f} s = {seconds / floor:.2f}x "
                            f"freecadcmd -c \"import Part, numpy\" ({floor:.3f} s) (<= 1.2x)"))
     checks += _floor_checks(report.get("floors"))
+    if report.get("floors_error"):
+        checks.append((False, f"floors: the measure failed: {report['floors_error']}"))
     mcs = report.get("mcs")
     if mcs:
         p99 = mcs["latency_p99"]
