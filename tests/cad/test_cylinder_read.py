@@ -237,8 +237,7 @@ def test_only_whole_cylinders_and_simply_placed_ones_without_a_shape(documents):
     assert cylinder_read(instance_of(doc, "Touched"))[2] == 2.0 * float(touched.Radius)
 
 
-@pytest.mark.parametrize("scale", [(1.0, 1.0, 1.5), (1.0, 1.0, -1.0)])
-def test_a_wafer_scaled_out_of_a_disc_is_bad_input(tmp_path, capsys, scale):
+def test_a_wafer_scaled_out_of_a_disc_is_bad_input(tmp_path, capsys):
     """A wafer reached through a link that scales it (no disc once placed) is refused as before
     the cylinder read, naming the object: exit 2, not a traceback (a second reader's case)."""
     from waferscan import cli
@@ -247,7 +246,10 @@ def test_a_wafer_scaled_out_of_a_disc_is_bad_input(tmp_path, capsys, scale):
     wafer = next(o for o in doc.Objects if roles.role_of(o) == roles.WAFER)
     link = doc.addObject("App::Link", "Scaled")
     link.LinkedObject = wafer
-    link.ScaleVector = V(*scale)
+    # Scaled unevenly (1.5x along Z): FreeCAD turns its faces into B-spline surfaces, which
+    # disc_of does not take for a disc's. (A mirroring scale, (1, 1, -1), does the same in
+    # 0.20.2 but leaves a disc in FreeCAD 1.0.)
+    link.ScaleVector = V(1.0, 1.0, 1.5)
     doc.recompute()
     path = tmp_path / "scaled.FCStd"
     save_document(doc, str(path))
