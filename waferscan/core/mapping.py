@@ -188,6 +188,16 @@ def _judge_by_bottom_edge(plan, bottom, top):
     return _bottom_edge_judge(plan)(bottom, top)
 
 
+def _bottom_edge_limits(plan):
+    """(double, below, above, low, high): the plan's limits as SPEC §4's judge compares with
+    them, each with LIMIT_SLACK added as its comparison adds it (the same sums, so the same
+    floats)."""
+    eps = LIMIT_SLACK
+    below, above = plan.position_window()
+    low, high = plan.thickness_window()
+    return (plan.double_limit() + eps, below + eps, above + eps, low - eps, high + eps)
+
+
 def _bottom_edge_judge(plan):
     """SPEC §4 for one plan, as a function of (bottom, top) giving ``judge_run``'s list: a run
     longer than the double limit is cross-slotted (both slots around its midpoint); any other
@@ -195,12 +205,7 @@ def _bottom_edge_judge(plan):
     thickness. The plan's limits are read once here, with LIMIT_SLACK added as each comparison
     adds it (the same sums, so the same floats); ``_nearest_slot`` and ``seat_z`` are written
     out, as this runs for every run of a scan."""
-    eps = LIMIT_SLACK
-    double = plan.double_limit() + eps
-    below, above = plan.position_window()
-    above, below = above + eps, below + eps
-    low, high = plan.thickness_window()
-    low, high = low - eps, high + eps
+    double, below, above, low, high = _bottom_edge_limits(plan)
     first, pitch, count = plan.first_slot_z, plan.pitch, plan.slot_count
     correction = plan.thickness_correction
     floor = math.floor
@@ -372,12 +377,7 @@ def _land_by_bottom_edge(plan, runs, states, members):
     checks it against ``_land_runs``): its list of findings a run and the call were a third of
     the slot map of a fab's scan. A run lands in one slot, or (cross-slotted) in the two around
     its midpoint, which are CROSS and so never a second run's position error."""
-    eps = LIMIT_SLACK
-    double = plan.double_limit() + eps
-    below, above = plan.position_window()
-    above, below = above + eps, below + eps
-    low, high = plan.thickness_window()
-    low, high = low - eps, high + eps
+    double, below, above, low, high = _bottom_edge_limits(plan)
     first, pitch, count = plan.first_slot_z, plan.pitch, plan.slot_count
     correction = plan.thickness_correction
     floor = math.floor

@@ -376,13 +376,11 @@ def analytic_engine(layout, progress=None):
 def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
     """``analytic_engine``'s stepped intervals (z_step > 0), one per wafer of the layout, None
     where the beam misses it, and the indices of the reachable wafers (ascending). A level
-    wafer of a level scan takes ``level_edger``'s edges and then ``settler``'s steps written
-    out in this loop, term for term (the same floats: the loop against the two in
+    wafer of a level scan takes ``level_edger``'s edges written out in this loop, term for term,
+    then ``settler``'s steps (the same floats: the loop against the two in
     tests/core/test_fab_floor.py, each against its definition in tests/core/test_fixed_cost.py,
-    the engine against ``loop`` in tests/core/test_engines.py): their two calls and the edges'
-    tuple a wafer cost more than the arithmetic. Any other wafer, or edges near a grid
-    position, as before."""
-    scan = layout.scan
+    the engine against ``loop`` in tests/core/test_engines.py). Any other wafer, or edges near
+    a grid position, as before."""
     wafers = layout.wafers
     steps = [None] * len(wafers)
     reachable = reachable_wafers(layout)  # only these: most of a fab's wafers are out of reach
@@ -400,11 +398,6 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
     sqrt, copysign, inf = math.sqrt, math.copysign, math.inf
     qq = ex * ex + ey * ey
     past_end = layout.beam.length + tol
-    # settler's values of the scan
-    start, step, last_k = scan.start_z, scan.z_step, scan.last_step
-    scan_size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]))
-    ceil, floor = math.ceil, math.floor
-    scan_margin = SETTLED_MARGIN * scan_size / step
     for i in reachable:
         wafer = wafers[i]
         if wafer.normal != (0.0, 0.0, 1.0):
@@ -442,27 +435,7 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
             e0, e1 = oz + low, oz + high
         else:
             e0, e1 = oz + high, oz + low
-        # settler's settled((e0, e1))
-        a, b = abs(e0), abs(e1)
-        if a > scan_size or b > scan_size:
-            size = a if a > scan_size else scan_size
-            if b > size:
-                size = b
-            margin = SETTLED_MARGIN * size / step
-        else:
-            margin = scan_margin
-        x0 = (e0 - start) / step
-        x1 = (e1 - start) / step
-        lo, hi = ceil(x0), floor(x1)
-        if lo - x0 <= margin or x0 - lo + 1 <= margin or x1 - hi <= margin or \
-                hi + 1 - x1 <= margin:
-            steps[i] = snap_to_grid(layout, wafer, (e0, e1))
-            continue
-        if lo < 0:
-            lo = 0
-        if hi > last_k:
-            hi = last_k
-        steps[i] = (lo, hi) if lo <= hi else snap_to_grid(layout, wafer, (e0, e1))
+        steps[i] = settled((e0, e1)) or snap_to_grid(layout, wafer, (e0, e1))
     return tuple(steps), reachable
 
 
