@@ -46,7 +46,7 @@ def test_a_failed_floor_is_said_and_the_rest_measured(monkeypatch):
 
     for failure in (RuntimeError("waferscan scan exited 1"),
                     subprocess.TimeoutExpired(["waferscan", "layout"], 600)):
-        def failing(rounds, quick=False, failure=failure):
+        def failing(rounds, quick=False, add=None, failure=failure):
             raise failure
 
         monkeypatch.setattr(bench_report, "bench_floors", failing)
@@ -57,3 +57,24 @@ def test_a_failed_floor_is_said_and_the_rest_measured(monkeypatch):
                  if text.startswith("floors")]
         assert lines == [(False, "floors: the measure failed: "
                                  f"{type(failure).__name__}: {failure}")]
+
+
+def test_each_floor_shows_a_line_as_it_is_measured(monkeypatch):
+    """On a terminal the floors (~2 minutes) show a table line each as they are measured."""
+    from waferscan.bench import documents, fab_floor, report as bench_report, scenario_scan
+
+    monkeypatch.setattr(fab_floor, "bench_fab_floor",
+                        lambda rounds: {"scan_layout": 1.3e-4, "floor": 5.6e-5, "ratio": 2.45})
+    monkeypatch.setattr(scenario_scan, "bench_scenario_scan",
+                        lambda rounds: {"scan": 0.244, "floor": 0.254, "ratio": 0.98})
+    monkeypatch.setattr(documents, "bench_document_floor",
+                        lambda rounds, quick=False: {"scan": 14.1, "floor": 3.2, "ratio": 4.28,
+                                                     "wafers": 10_000, "file_bytes": 1})
+    rows = []
+    report = {"results": []}
+    bench_report.measure_floors(report, 1, add=rows.append)
+    assert [bench.format_row(r) for r in rows] == [
+        "floor     fab                                  0.000130 s  floor   0.000056 s    2.45x",
+        "floor     scenario                             0.244000 s  floor   0.254000 s    0.98x",
+        "floor     document                            14.100000 s  floor   3.200000 s    4.28x"]
+    assert report["floors"]["document"]["ratio"] == 4.28

@@ -36,7 +36,7 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, on
         report["contract"] = contract_entries(report, only="sweep")
         return report
     if only == "floors":  # `waferscan bench --only floors`: the figures beside their floors
-        measure_floors(report, rounds, quick)
+        measure_floors(report, rounds, quick, add)
         report["contract"] = contract_entries(report, only="floor")
         return report
     if only == "host":  # `waferscan bench --only host`: the host link's figures alone
@@ -74,23 +74,23 @@ def run_bench(scenario_path, quick=False, gui=True, mcs=True, progress=print, on
                 report["gui_animation"] = gui_animation(layout_path)
         except (RuntimeError, OSError, ValueError, subprocess.SubprocessError) as exc:
             report["gui_error"] = str(exc)
-    measure_floors(report, rounds, quick)
+    measure_floors(report, rounds, quick, add)
     report["sweep"] = bench_sweep(paper, rounds, add, quick)
     report["contract"] = contract_entries(report)
     return report
 
 
-def measure_floors(report, rounds, quick=False):
+def measure_floors(report, rounds, quick=False, add=None):
     """``report["floors"]`` from ``bench_floors``, or ``report["floors_error"]`` when a measure
     fails (a process that errs or times out, a floor that disagrees): the bench's other figures
-    are kept and measured on."""
+    are kept and measured on. ``add``: each floor's row (workload "floor") as it is measured."""
     try:
-        report["floors"] = bench_floors(rounds, quick)
+        report["floors"] = bench_floors(rounds, quick, add)
     except (RuntimeError, OSError, AssertionError, subprocess.SubprocessError) as exc:
         report["floors_error"] = f"{type(exc).__name__}: {exc}"
 
 
-def bench_floors(rounds, quick=False):
+def bench_floors(rounds, quick=False, add=None):
     """SPEC §9 amended (issue 30): what the same work costs written plainly, each beside the
     product's figure in interleaved rounds: fab's ``scan_layout`` and the closed form in plain
     Python (bench/fab_floor.py); `waferscan scan` of a scenario and the `freecadcmd` floor
@@ -100,9 +100,17 @@ def bench_floors(rounds, quick=False):
     from .fab_floor import bench_fab_floor
     from .scenario_scan import bench_scenario_scan
 
-    return {"fab": bench_fab_floor(rounds),
-            "scenario": bench_scenario_scan(3 if quick else 7),
-            "document": bench_document_floor(2 if quick else 3, quick=quick)}
+    measures = {"fab": lambda: bench_fab_floor(rounds),
+                "scenario": lambda: bench_scenario_scan(3 if quick else 7),
+                "document": lambda: bench_document_floor(2 if quick else 3, quick=quick)}
+    floors = {}
+    for name, measure in measures.items():
+        floors[name] = figure = measure()
+        if add is not None:
+            seconds = figure.get("scan", figure.get("scan_layout"))
+            add({"workload": "floor", "engine": name, "seconds": seconds,
+                 "floor_seconds": figure["floor"], "ratio": figure["ratio"]})
+    return floors
 
 
 def format_row(r):
@@ -113,6 +121,9 @@ def format_row(r):
     if r["workload"] == "host":
         return (f"{r['workload']:<9} {r['engine']:<32} {r['carriers']:>9,} carriers "
                 f"p50 {r['p50_ms']:>8.2f} ms  p99 {r['p99_ms']:>8.2f} ms")
+    if r["workload"] == "floor":
+        return (f"{r['workload']:<9} {r['engine']:<32} {r['seconds']:>12.6f} s  floor "
+                f"{r['floor_seconds']:>10.6f} s  {r['ratio']:>6.2f}x")
     if r["workload"] == "sweep":
         return (f"{r['workload']:<9} {r['engine']:<32} {r['layouts']:>9,} layouts "
                 f"{r['seconds']:>9.3f} s {r['layouts_per_minute']:>12,.0f} layouts/min")
