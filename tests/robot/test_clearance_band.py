@@ -9,6 +9,7 @@ import pytest
 
 from waferscan.bench.workloads import stack_scenario
 from waferscan.core.files.scenario import parse_scenario
+from waferscan.core.scan import clearance as core
 from waferscan.core.scan.clearance import closest_dict
 from waferscan.robot import clearance
 from waferscan.robot.clearance import clearance_for
@@ -32,6 +33,7 @@ def test_the_band_gives_every_obstacles_answer(monkeypatch, foups, with_carrier)
     among = clearance._Body._nearest_among
     monkeypatch.setattr(clearance._Body, "_nearest_among",
                         lambda self, *a: calls.append(a[3] is not None) or among(self, *a))
+    monkeypatch.setattr(core, "SPAN", 10 ** 9)  # every pose of the stroke (no clear spans)
     banded = _report(layout, carrier)
     obstacles = len(clearance.body_for(layout, carrier).obstacles.items)
     assert any(calls) == (obstacles > clearance.NEAR_BAND_FROM)
@@ -61,3 +63,51 @@ def test_an_obstacle_outside_the_band_is_still_found():
     finally:
         clearance.NEAR_BAND_FROM = saved
     assert banded[0] > clearance.NEAR_BAND and banded[2].startswith("FAR")
+
+
+def _counted(monkeypatch):
+    calls = []
+    nearest = clearance._Body.nearest
+    monkeypatch.setattr(clearance._Body, "nearest",
+                        lambda self, *a: calls.append(a[1]) or nearest(self, *a))
+    return calls
+
+
+def test_clear_spans_of_a_stack_give_every_poses_answer(monkeypatch):
+    """The heads through the roofs of 10 FOUPs' solids (a contact, so the stroke is searched):
+    the spans they sweep clear of everything are not sampled pose by pose (core/scan/
+    clearance.py ``_clear_spans``), and the report is the same to the last bit."""
+    from waferscan.robot.scenario_scan import carrier_solids
+
+    layout = parse_scenario(stack_scenario(10), "stack.toml")
+    carrier = carrier_solids(layout)
+    calls = _counted(monkeypatch)
+    spanned = _report(layout, carrier)
+    asked = len(calls)
+    calls.clear()
+    monkeypatch.setattr(core, "SPAN", 10 ** 9)
+    assert _report(layout, carrier) == spanned and '"distance": -' in spanned
+    assert len(calls) > 2000 and asked < len(calls) / 4
+
+
+def test_clear_spans_of_the_robots_fork_give_every_poses_answer(monkeypatch):
+    """The paper's robot lifted to 1,500 mm past a wafer pulled 8 mm out of its slot into the
+    fork's path: the same report as every pose, from a fraction of the poses."""
+    from dataclasses import replace
+
+    from waferscan.core.files.scenario import read_scenario
+    from scenarios import PAPER
+
+    layout = read_scenario(PAPER)
+    wafers = list(layout.wafers)
+    x, y, z = wafers[3].center
+    wafers[3] = replace(wafers[3], center=(x, y - 8.0, z))
+    layout = replace(layout, wafers=tuple(wafers), scan=replace(layout.scan, final_z=1500.0))
+    calls = _counted(monkeypatch)
+    spanned = _report(layout, ())
+    asked = len(calls)
+    calls.clear()
+    monkeypatch.setattr(core, "SPAN", 10 ** 9)
+    assert _report(layout, ()) == spanned
+    assert '"distance": -2.4486' in spanned and '"obstacle": "LP1_W04"' in spanned
+    assert len(calls) > 1200 and asked < len(calls) / 3

@@ -24,13 +24,17 @@ cannot be missed, and the least distance reported d is within max(``TOLERANCE``,
 |d - clearance_min|) of the true one (it is the distance at the reported position exactly): a
 motion that stays far from everything needs no micrometres, one near the limit gets them. A
 contact's (d < clearance_min) within ``CONTACT_RELATIVE`` |d - clearance_min|.
+
+**Spans.** A long translation that touches something somewhere (a stocker's stroke through a
+roof: 120,000 first samples) is swept span by span first; a span swept clear by more than the
+refinement can reach is left unsampled, which changes nothing in the answer (``least_along``).
 """
 
 from __future__ import annotations
 
 import heapq
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from ..errors import InputError
 
@@ -186,26 +190,98 @@ def scan_motions(layout, pockets=None):
 
 def least_along(body, motion, clearance_min, tolerance=TOLERANCE, per_unit=SAMPLES_PER_MM,
                 budget=MAX_EVALUATIONS):
-    """The Closest of one motion, exact (``swept``) or by Lipschitz refinement (module doc)."""
+    """The Closest of one motion, exact (``swept``) or by Lipschitz refinement (module doc).
+
+    A long translation that ``swept`` cannot answer whole (it overlaps something somewhere) is
+    cut into spans of SPAN first samples; a span the body sweeps clear of everything by a
+    margin the refinement can never reach (``_clear_spans``) is not sampled: its samples could
+    not be the least, nor its intervals split, so the answer is the one sampling it gives, to
+    the last bit (and, should the refinement reach a span's bound after all, every sample is
+    taken and the search made again)."""
     swept = body.swept(motion)
     if swept is not None:
         return swept
     a, b = motion.start, motion.end
     count = max(1, int(math.ceil(abs(b - a) * per_unit)))
     grid = [a + (b - a) * i / count for i in range(count + 1)]
-    values = [body.nearest(motion, s) for s in grid]
-    best_s, best = min(zip(grid, values), key=lambda sv: sv[1][0])
+    values = {}
+    spans = _clear_spans(body, motion, grid, clearance_min, values)
+    found = _refined(body, motion, clearance_min, tolerance, budget, grid, values, spans)
+    if found is None:  # the refinement reached a span's bound: every sample, as without spans
+        found = _refined(body, motion, clearance_min, tolerance, budget, grid, values, [])
+    return found
+
+
+# First samples of a translation a span holds (``_clear_spans``), and how far below the swept
+# parts' distance to everything a span's samples are taken to lie at the least (coal's
+# distances of the swept shapes and of one position agree far closer than this).
+SPAN = 64
+SPAN_SLACK = 0.01  # mm
+
+
+def _clear_spans(body, motion, grid, clearance_min, values):
+    """The spans of ``grid`` (a translation's first samples) that need no sampling: (i, j,
+    low) for grid[i] .. grid[j] (its inner samples left out), swept by the body clear of
+    everything, ``low`` a bound below every Lipschitz bound of an interval inside it. Kept
+    only where ``low`` is at least clearance_min and the least of the samples taken (filled in
+    ``values``, index -> nearest), which the refinement never passes (``_refined``): it splits
+    an interval only while its bound is below the least sample found less the tolerance, or
+    below clearance_min when nothing is closer than that."""
+    if motion.kind not in (STROKE, STEPS) or len(grid) <= 2 * SPAN:
+        return []
+    spans = []
+    for i in range(0, len(grid) - 1 - SPAN, SPAN):
+        j = i + SPAN
+        closest = body.swept(replace(motion, start=grid[i], end=grid[j]))
+        if closest is None:
+            continue  # overlapping something somewhere in the span: sampled
+        # An interval's bound is half its ends' distances (each at least the swept one, less
+        # SPAN_SLACK) less half its path; SPAN_SLACK again for the bound's rounding.
+        longest = max(body.path(motion, grid[k], grid[k + 1]) for k in range(i, j))
+        low = closest.distance - SPAN_SLACK - 0.5 * longest - SPAN_SLACK
+        if low >= clearance_min:
+            spans.append((i, j, low))
+    while True:
+        inner = {k for i, j, _ in spans for k in range(i + 1, j)}
+        for k, s in enumerate(grid):
+            if k not in inner and k not in values:
+                values[k] = body.nearest(motion, s)
+        least = min(v[0] for v in values.values())
+        kept = [span for span in spans if span[2] >= least]
+        if len(kept) == len(spans):
+            return spans
+        spans = kept  # a span dropped is sampled, which may lower the least
+
+
+def _refined(body, motion, clearance_min, tolerance, budget, grid, values, spans):
+    """The Lipschitz refinement of ``least_along`` from the first samples ``grid`` (``values``:
+    those taken, by index; each one missing is taken), the inner samples of ``spans`` left out.
+    None when the least bound left to split would be a span's."""
+    inner = {}
+    for i, j, low in spans:
+        for k in range(i, j):
+            inner[k] = low  # the interval grid[k] .. grid[k + 1] lies in a span
+    floor = min(inner.values(), default=math.inf)
+    for k, s in enumerate(grid):
+        if k not in values and (k not in inner or k - 1 not in inner):
+            values[k] = body.nearest(motion, s)
+    taken = [k for k in range(len(grid)) if k in values]
+    best_k = min(taken, key=lambda k: values[k][0])
+    best_s, best = grid[best_k], values[best_k]
     heap = []
 
     def push(s0, v0, s1, v1):
         bound = 0.5 * (v0[0] + v1[0] - body.path(motion, s0, s1))
         heapq.heappush(heap, (bound, s0, s1, v0, v1))
 
-    for (s0, v0), (s1, v1) in zip(zip(grid, values), zip(grid[1:], values[1:])):
-        push(s0, v0, s1, v1)
+    for k in range(len(grid) - 1):
+        if k not in inner:
+            push(grid[k], values[k], grid[k + 1], values[k + 1])
     evaluations = len(grid)
     exact = True
-    while heap:
+    while heap or spans:
+        if spans and (not heap or heap[0][0] >= floor):
+            return None  # the next interval to weigh could be one inside a span
         bound, s0, s1, v0, v1 = heap[0]
         fraction = CONTACT_RELATIVE if best[0] < clearance_min else RELATIVE
         slack = max(tolerance, fraction * abs(best[0] - clearance_min))
