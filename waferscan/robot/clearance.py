@@ -294,6 +294,37 @@ def _wafer_box(wafer, rotation, centre):
     return centre - reach, centre + reach
 
 
+_WAFERS_MADE = []  # [(the scanned carrier, the wafers, their obstacle items)]
+
+
+def _wafer_items(scanned, wafers):
+    """Obstacle items of the ``wafers`` (Wafers; ``scanned``: the scanned carrier, which names
+    their slots), made once for the same wafers: a document scanned again (the MCS link's
+    commands, the bench's rounds) has the same, and making their coal solids was a third of
+    the paper's clearance check. (name, slot, geometry, transform, centre, radius, low, high,
+    None)."""
+    for carrier, known, items in _WAFERS_MADE:
+        if known is wafers or (carrier == scanned and known == wafers):
+            return items
+    items = []
+    for wafer in wafers:
+        rotation = _frame_z(wafer.normal)
+        if wafer.bow:
+            geometry, bound = _bowed_hull(wafer)
+            origin = np.asarray(wafer.center, dtype=float)
+            centre = origin + rotation[:, 2] * 0.5 * (wafer.bow + wafer.thickness)
+        else:
+            geometry = coal.Cylinder(wafer.radius, wafer.thickness)
+            origin = centre = np.asarray(wafer.mid_center, dtype=float)
+            bound = math.hypot(wafer.radius, 0.5 * wafer.thickness)
+        low, high = _wafer_box(wafer, rotation, centre) or (centre - bound, centre + bound)
+        items.append((wafer.name, _slot_of(scanned, wafer), geometry,
+                      coal.Transform3s(rotation, origin), centre, bound, low, high, None))
+    items = tuple(items)
+    _WAFERS_MADE[:] = [(scanned, wafers, items)] + _WAFERS_MADE[:1]
+    return items
+
+
 _CARRIER_MADE = []  # [(the carrier solids given, their key, their obstacle items)]
 
 
@@ -336,22 +367,7 @@ class Obstacles:
     items (name, slot, geometry, transform, centre, radius, low, high, inside)."""
 
     def __init__(self, layout, carrier=()):
-        scanned = layout.scanned_carrier
-        self.items = []
-        for wafer in layout.wafers:
-            rotation = _frame_z(wafer.normal)
-            if wafer.bow:
-                geometry, bound = _bowed_hull(wafer)
-                origin = np.asarray(wafer.center, dtype=float)
-                centre = origin + rotation[:, 2] * 0.5 * (wafer.bow + wafer.thickness)
-            else:
-                geometry = coal.Cylinder(wafer.radius, wafer.thickness)
-                origin = centre = np.asarray(wafer.mid_center, dtype=float)
-                bound = math.hypot(wafer.radius, 0.5 * wafer.thickness)
-            low, high = _wafer_box(wafer, rotation, centre) or (centre - bound, centre + bound)
-            self.items.append((wafer.name, _slot_of(scanned, wafer), geometry,
-                               coal.Transform3s(rotation, origin), centre, bound, low, high,
-                               None))
+        self.items = list(_wafer_items(layout.scanned_carrier, layout.wafers))
         self.carrier, self.carrier_count = (), 0
         self._bounds()
         self.add_carrier(carrier)
