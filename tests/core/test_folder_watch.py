@@ -60,6 +60,67 @@ def test_a_stop_ends_the_wait(watched):
     thread.join()
 
 
+class CountedPoll:
+    """A watch's poller, its polls counted."""
+
+    def __init__(self, poller):
+        self.poller, self.calls = poller, 0
+
+    def poll(self, *args):
+        self.calls += 1
+        return self.poller.poll(*args)
+
+    def register(self, *args):
+        return self.poller.register(*args)
+
+    def unregister(self, *args):
+        return self.poller.unregister(*args)
+
+
+def test_an_idle_wait_sleeps_until_its_deadline(watched):
+    """With the MCS link's StopFlag, whose pipe wakes the poll, an idle wait is one poll to its
+    deadline; with a flag that can only be looked at (a threading.Event), one every
+    STOP_SLICE."""
+    _, watch = watched
+    counted = watch._poller = CountedPoll(watch._poller)
+    assert watch.wait(0.6, StopFlag()) is False
+    assert counted.calls == 1
+    counted.calls = 0
+    assert watch.wait(0.6, threading.Event()) is False
+    assert counted.calls >= 0.6 / folder_watch.STOP_SLICE - 2
+
+
+def test_a_signal_ends_the_wait_at_once(watched):
+    """SIGINT and SIGTERM set the flag from a handler (``stop_on_signals``): its pipe ends a
+    wait of a minute there and then."""
+    import signal
+
+    _, watch = watched
+    stop = StopFlag()
+    old = signal.signal(signal.SIGALRM, stop.set)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.2)
+        assert watch.wait(LONG, stop) is False and stop.is_set()
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def test_a_flag_set_before_the_wait_ends_it(watched):
+    _, watch = watched
+    stop = StopFlag()
+    stop.set()
+    assert watch.wait(LONG, stop) is False
+    stop.wake_fd()  # made after the request: readable all the same
+    assert watch._poller.poll(0) == [] and select_readable(stop.wake_fd())
+
+
+def select_readable(fd):
+    import select
+
+    return bool(select.select([fd], [], [], 0)[0])
+
+
 def test_a_removed_folder_is_polled_until_it_is_back(watched):
     folder, watch = watched
     thread = later(lambda: os.rmdir(folder))

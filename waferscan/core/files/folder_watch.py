@@ -145,6 +145,20 @@ class FolderWatch:
             self._add()  # the folder is back: watched again, and read now
             if self.watch >= 0:
                 return True
+        # A stop flag that can wake the poll (mcs_link.StopFlag.wake_fd) lets it sleep until
+        # the deadline; another is looked at every STOP_SLICE (20 wake-ups a second). Its file
+        # descriptor is polled during this wait only (a flag's pipe closes with the flag).
+        make = getattr(stop, "wake_fd", None) if self.active else None
+        wake = None if make is None else make()
+        if wake is None:
+            return self._wait(seconds, stop, None)
+        self._poller.register(wake, select.POLLIN)
+        try:
+            return self._wait(seconds, stop, wake)
+        finally:
+            self._poller.unregister(wake)
+
+    def _wait(self, seconds, stop, wake):
         deadline = time.monotonic() + seconds
         while not stop.is_set():
             left = deadline - time.monotonic()
@@ -153,7 +167,9 @@ class FolderWatch:
             if not self.active:
                 time.sleep(min(left, STOP_SLICE))
                 continue
-            if self._poller.poll(1000.0 * min(left, STOP_SLICE)):
+            ready = self._poller.poll(1000.0 * (left if wake is not None else
+                                                min(left, STOP_SLICE)))
+            if any(fd == self.fd for fd, _ in ready):
                 gone, dropped = self._drain()
                 if gone:  # removed or moved away: polled until a folder is back
                     if not dropped:

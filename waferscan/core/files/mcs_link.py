@@ -103,12 +103,37 @@ class StopFlag:
 
     def __init__(self):
         self.requested = False
+        self._wake = None  # (read end, write end) of a pipe, once a waiter asked for it
 
     def set(self, *_):
         self.requested = True
+        wake = self._wake
+        if wake is not None:
+            try:
+                os.write(wake[1], b"!")  # a write to a pipe: no lock, as a handler needs
+            except OSError:  # full (already readable) or closed
+                pass
 
     def is_set(self):
         return self.requested
+
+    def wake_fd(self):
+        """A file descriptor that is readable once a stop was requested, for a wait on file
+        descriptors (``folder_watch.FolderWatch.wait``) to end at the request instead of
+        looking at the flag in slices: an idle watcher then sleeps until something happens."""
+        if self._wake is None:
+            self._wake = os.pipe2(os.O_NONBLOCK | os.O_CLOEXEC)
+            if self.requested:  # requested before the pipe was there
+                self.set()
+        return self._wake[0]
+
+    def __del__(self):
+        wake, self._wake = getattr(self, "_wake", None), None
+        for fd in wake or ():
+            try:
+                os.close(fd)
+            except OSError:
+                pass
 
     def wait(self, seconds):
         """Sleep up to ``seconds``, in slices, ending early once a stop is requested."""
