@@ -114,3 +114,45 @@ def test_a_thousand_partitions_of_a_hundred_million_layouts_merge(capsys):
     with capsys.disabled():
         print(f"\n1,000 partitions of 10^8 layouts: brackets of one kind in {took:.3f} s")
     assert all(low <= high for low, high in brackets)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_tally_of_many_distinct_margins_sends_every_stride_th_of_them(seed):
+    """A partition's MarginTally of many distinct values (readings off the step grid) is
+    digested as a sorted array of them all would be: its stride-th values from the smallest,
+    not each value with its count; and every rank is found exactly from such digests (the
+    reduction's order statistics against numpy's sort of all the partitions' margins)."""
+    from waferscan.core.sweep.margins import MarginTally
+    from waferscan.core.sweep.reduction import LocalPartitions, reduce_partitions
+
+    rng = np.random.default_rng(seed)
+    parts, every, sampled = [], [], []
+    for _ in range(int(rng.integers(2, 6))):
+        tally = MarginTally()
+        held = []
+        for _ in range(int(rng.integers(1, 5))):
+            block = np.round(rng.normal(0.2, 0.05, int(rng.integers(1, 4000))), 5)  # ties too
+            tally.add(block)
+            held.append(block)
+        margins = np.sort(np.concatenate(held))
+        every.append(margins)
+        stride = int(rng.choice([1, 7, 256, 256]))
+        digest = reduction.partition_digest(
+            {"confusion": 0, "moments": 0, "weakest_peak": 1.0, "extremes": {},
+             "margins": {"m": tally}}, stride)["margins"]["m"]
+        assert tally.exact
+        if len(tally.values) > tally.count // stride + 1:  # more values than samples
+            assert "values" not in digest
+            assert np.array_equal(digest["samples"], margins[::stride])
+            sampled.append(stride)
+        else:
+            assert np.array_equal(np.repeat(digest["values"], digest["counts"]), margins)
+        parts.append({"confusion": np.zeros((8, 8), dtype=np.int64), "moments": 0,
+                      "weakest_peak": 1.0, "extremes": {}, "margins": {"m": tally}})
+    assert sampled  # the digest of many distinct values was met
+    reduced = reduce_partitions(LocalPartitions(), parts)["margins"]["m"]
+    together = np.sort(np.concatenate(every))
+    assert reduced["count"] == len(together)
+    assert reduced["min"] == together[0] and reduced["max"] == together[-1]
+    for p in reduction.PERCENTILES:
+        assert reduced[f"p{p}"] == float(np.percentile(together, p))

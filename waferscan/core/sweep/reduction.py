@@ -66,7 +66,16 @@ def partition_digest(part, stride=None):
         else:
             digest = {"count": values.count, "min": values.low if values.count else None,
                       "max": values.high if values.count else None}
-            if values.exact:
+            if values.exact and len(values.values) > values.count // stride + 1:
+                # Many distinct values (readings off the step grid, up to DISTINCT_LIMIT): the
+                # stride-th values of them all, as of a sorted array, not every one with its
+                # count (8 partitions of a 100,000-layout sweep sent ~2 million to the client,
+                # 0.6 s of a 3 s sweep on two workers). A digest only brackets the ranks.
+                distinct, counts = values.values, values.counts
+                at = np.searchsorted(np.cumsum(counts), np.arange(0, values.count, stride),
+                                     side="right")
+                digest.update(stride=stride, samples=distinct[at])
+            elif values.exact:
                 digest.update(values=values.values, counts=values.counts)
             else:
                 bins = np.flatnonzero(values.coarse)
