@@ -101,6 +101,13 @@ def _bowed_hull(wafer):
     return hull, bound
 
 
+def _norms(vectors):
+    """The Euclidean norms along the last axis: ``np.linalg.norm(vectors, axis=-1)``'s own
+    arithmetic (the squares summed by ``add.reduce``, then the root), the same floats, without
+    its checks (the nearest pair is looked for at every pose of a search)."""
+    return np.sqrt(np.add.reduce(vectors * vectors, axis=-1))
+
+
 def _bound_radius(geometry):
     """Radius of a sphere about the shape's origin that holds it."""
     if isinstance(geometry, coal.Box):
@@ -426,6 +433,7 @@ class _Body:
         self.request = coal.DistanceRequest()
         self.result = coal.DistanceResult()
         self.lift_axis = np.asarray(layout.lift_axis, dtype=float)
+        self._radii = {}  # id(shape) -> (shape, its bounding radius): the body's own shapes
 
     def add_carrier(self, solids):
         """The carrier's solids (``Obstacles``) as obstacles too, for a body made without them;
@@ -445,6 +453,18 @@ class _Body:
             return -d
         return d
 
+    def _holds(self, shapes):
+        """Keep the bounding radius of each of the body's own ``shapes`` (they are asked for
+        at every pose of a search: ~20 % of a slow scan's clearance)."""
+        self._radii = {id(shape): (shape, _bound_radius(shape)) for shape in shapes}
+
+    def _radius(self, geometry):
+        """``_bound_radius`` of a part's shape: kept for the body's own (``_holds``)."""
+        known = self._radii.get(id(geometry))
+        if known is not None and known[0] is geometry:
+            return known[1]
+        return _bound_radius(geometry)  # a swept shape, made for one question
+
     def _nearest(self, parts):
         """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
         pairs in the order of their bounding spheres' distance, until that is no less than the
@@ -455,7 +475,7 @@ class _Body:
             return best
         obstacles = self.obstacles
         centres = np.array([part[3] for part in parts])
-        radii = np.array([_bound_radius(part[1]) for part in parts])
+        radii = np.array([self._radius(part[1]) for part in parts])
         if len(obstacles.items) > NEAR_BAND_FROM:
             # A stocker's 10,000 wafers: the parts meet a few of them at a time, and every pair
             # weighed at every pose made a scan's clearance quadratic in the wafers (254 s of
@@ -480,14 +500,14 @@ class _Body:
                 return best
             o_centres, o_radii, lows, highs = (o_centres[among], o_radii[among], lows[among],
                                                highs[among])
-        gaps = (np.linalg.norm(centres[:, None, :] - o_centres[None, :, :], axis=2)
+        gaps = (_norms(centres[:, None, :] - o_centres[None, :, :])
                 - radii[:, None] - o_radii[None, :])
         if obstacles.carrier_count:
             # A wall or a floor is long and thin: its box bounds it far better than a sphere.
             outside = np.maximum(np.maximum(lows[None, :, :] - centres[:, None, :],
                                             centres[:, None, :] - highs[None, :, :]),
                                  0.0)
-            gaps = np.maximum(gaps, np.linalg.norm(outside, axis=2) - radii[:, None])
+            gaps = np.maximum(gaps, _norms(outside) - radii[:, None])
         count = gaps.shape[1]
         transforms = {}
         # Stable: pairs whose bounds tie are weighed in the order of the obstacles, the same
@@ -561,6 +581,7 @@ class RobotBody(_Body):
         if urdf is None and spec is not None:
             urdf = spec.urdf
         self.robot, self.geometry, self.geometry_data, self.parts = collision_model(urdf)
+        self._holds([shape for _, shape, _ in self.parts])
         if base is None:
             base = (tuple(spec.base), spec.base_yaw) if spec is not None \
                 else ((0.0, 0.0, 0.0), 0.0)
@@ -719,6 +740,7 @@ class ScannerBody(_Body):
     def __init__(self, layout, carrier=()):
         super().__init__(layout, carrier)
         self.sphere = coal.Sphere(HEAD_RADIUS)
+        self._holds([self.sphere])
 
     def ends(self, motion, s):
         if motion.kind in (core.STROKE, core.STEPS):
