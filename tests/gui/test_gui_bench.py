@@ -28,3 +28,7 @@ def test_the_gui_animation_measure_plays_the_scan_animation(tmp_path):
     # the file (which once left it 998 x 408).
     width, height = result["view_size"]
     assert width > 800 and height > 550, result["view_size"]
+    # The view drawn on demand, with the layout and with nothing shown (the renderer's floor):
+    # both measured, and an empty view draws at least about as fast as the layout.
+    assert result["view_fps"] > 0 and result["empty_view_fps"] > 0
+    assert result["empty_view_fps"] > 0.8 * result["view_fps"], result

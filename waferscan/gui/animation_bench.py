@@ -11,7 +11,8 @@ bench does not force a redraw at each update, as its first version did (``Gui.up
 Run scan forces none, and whether its updates get drawn is part of what is measured; updates
 the event loop draws together count once, as one frame shown. ``updates_per_second`` counts
 the placement updates, ``frames_per_second`` the frames shown, ``max_stall`` the longest gap
-between two frames shown."""
+between two frames shown; ``view_fps`` and ``empty_view_fps`` the frames a second the same view
+draws on demand with the layout and with nothing shown (FreeCAD's own view, the floor)."""
 
 import json
 import os
@@ -70,6 +71,7 @@ def main():
                           frames_per_second=(len(times) - 1) / (times[-1] - times[0]),
                           max_stall=max(gaps), fault=animation.fault,
                           view_size=_view_size(view))
+            result.update(_drawn_on_demand(doc, view))
             finish(result)
 
         animation.moved.connect(frame)
@@ -77,6 +79,35 @@ def main():
     except Exception:
         result["error"] = traceback.format_exc()
         finish(result)
+
+
+def _drawn_on_demand(doc, view, frames=20):
+    """How many frames a second the same 3D view draws when asked to (``redraw`` and the
+    events it makes, one after the other, nothing else between): with the layout as the scan
+    left it (``view_fps``), and with every object hidden (``empty_view_fps``: FreeCAD's own
+    view, its background and navigation cube, the floor of any animation in it)."""
+
+    def rate():
+        for _ in range(3):
+            view.redraw()
+            Gui.updateGui()
+        start = time.perf_counter()
+        for _ in range(frames):
+            view.redraw()
+            Gui.updateGui()
+        return frames / (time.perf_counter() - start)
+
+    shown = rate()
+    hidden = [o for o in doc.Objects
+              if getattr(o, "ViewObject", None) is not None and o.ViewObject.Visibility]
+    for obj in hidden:
+        obj.ViewObject.Visibility = False
+    try:
+        empty = rate()
+    finally:
+        for obj in hidden:
+            obj.ViewObject.Visibility = True
+    return {"view_fps": shown, "empty_view_fps": empty}
 
 
 def _view_size(view):
