@@ -342,9 +342,10 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
         if 1 <= slot <= count:
             states[slot] = PROTRUDING
     first, pitch = plan.first_slot_z, plan.pitch  # seat_z(slot), written out
-    return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, states[slot],
-                                    () if members[slot] is None else tuple(members[slot]))
-                          for slot in range(1, count + 1)]))
+    return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, state,
+                                    () if held is None else tuple(held))
+                          for slot, state, held in zip(range(1, count + 1), states[1:],
+                                                       members[1:])]))
 
 
 def _land_runs(plan, runs, states, members):
@@ -386,7 +387,8 @@ def _land_by_bottom_edge(plan, runs, states, members):
     for index, (bottom, top) in enumerate(runs):
         length = top - bottom if correction == 1.0 else (top - bottom) / correction
         if length > double:
-            lower = int(floor((0.5 * (bottom + top) - first) / pitch)) + 1
+            # (math.floor of a float is an int: _bottom_edge_judge's int() of it, left out)
+            lower = floor((0.5 * (bottom + top) - first) / pitch) + 1
             for slot in (lower, lower + 1):
                 if 1 <= slot <= count:
                     held = members[slot]
@@ -397,7 +399,7 @@ def _land_by_bottom_edge(plan, runs, states, members):
                     if cross_rank > rank[states[slot]]:
                         states[slot] = CROSS
             continue
-        slot = int(floor((bottom - first) / pitch + 0.5)) + 1
+        slot = floor((bottom - first) / pitch + 0.5) + 1
         if not 1 <= slot <= count:
             continue
         offset = bottom - (first + (slot - 1) * pitch)

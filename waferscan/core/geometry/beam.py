@@ -264,10 +264,14 @@ LEVEL = (0.0, 0.0, 1.0)  # a level wafer's normal
 PRE_REJECT_SLACK = 1e-6
 
 
-def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
-    """Indices of the ``wafers`` that pass ``accessible(layout, wafer, z_from, z_to)``: the same
-    bounds in the same arithmetic, so the same answers, with what depends on the beam alone
-    worked out once instead of once per wafer."""
+def sweep_reach(layout, z_from, z_to, tol=TOUCH_TOLERANCE):
+    """What ``accessible`` reads of the beam swept from scan position z_from to z_to, worked out
+    once for all wafers (``accessible_wafers``, and the analytic engine's level loop): (margin,
+    z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high). The beam's
+    footprint at the start runs from (sx, sy) by (dx, dy), dd = dx² + dy²; the box
+    [x_low, x_high] x [y_low, y_high] holds it: a level wafer whose centre is further from the
+    box, in X or Y alone, than its reach (and far more than any rounding) cannot pass the
+    distance test, and is left out with two subtractions (a fab's other carriers)."""
     beam = layout.beam
     lo_z, hi_z = min(z_from, z_to), max(z_from, z_to)
     margin = 10.0 * tol
@@ -279,17 +283,34 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
     dd = dx * dx + dy * dy
     ax, ay, az = layout.lift_axis
     drift = math.hypot(ax, ay) / az * (hi_z - lo_z)
-    hypot, sqrt = math.hypot, math.sqrt
-    # The beam's footprint lies in this box: a level wafer whose centre is further from it, in
-    # X or Y alone, than its reach (and far more than any rounding) cannot pass the distance
-    # test below, and is left out with two subtractions (a fab's other carriers).
     x_low, x_high = min(sx, ex) - PRE_REJECT_SLACK, max(sx, ex) + PRE_REJECT_SLACK
     y_low, y_high = min(sy, ey) - PRE_REJECT_SLACK, max(sy, ey) + PRE_REJECT_SLACK
+    return (margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high)
+
+
+def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
+    """Indices of the ``wafers`` that pass ``accessible(layout, wafer, z_from, z_to)``: the same
+    bounds in the same arithmetic, so the same answers, with what depends on the beam alone
+    worked out once instead of once per wafer (``sweep_reach``)."""
+    margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high = \
+        sweep_reach(layout, z_from, z_to, tol)
+    hypot, sqrt = math.hypot, math.sqrt
     found = []
+    # The last level wafer's normal, centre X and Y and diameter (the objects), and whether it
+    # passed the XY test, which depends on these alone: a carrier's seated wafers share them
+    # (a scenario's are made from the carrier's numbers), and the next wafer with the same
+    # objects, so the same numbers bit for bit, takes its answer without the arithmetic.
+    same_normal = same_x = same_y = same_diameter = None
+    near = False
     for index, wafer in enumerate(wafers):
-        (cx, cy, cz), normal = wafer.center, wafer.normal
-        if normal == LEVEL:
-            bound = (wafer.diameter / 2.0 + drift) + margin
+        (cx, cy, cz), normal, diameter = wafer.center, wafer.normal, wafer.diameter
+        if normal is same_normal and cx is same_x and cy is same_y and diameter is same_diameter:
+            if not near:
+                continue
+        elif normal == LEVEL:
+            same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
+            near = False
+            bound = (diameter / 2.0 + drift) + margin
             if cx - x_high > bound or x_low - cx > bound or cy - y_high > bound or \
                     y_low - cy > bound:
                 continue
@@ -304,29 +325,32 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
             f = along if along < 1.0 else 1.0
             if not hypot(px - f * dx, py - f * dy) <= bound:
                 continue
+            near = True
+        else:
             thickness = wafer.thickness
-            mid_z = cz + thickness / 2.0
-            half_z = 0.5 * thickness + abs(wafer.bow)
+            radius = diameter / 2.0  # wafer.radius, without the property's call
+            h = thickness / 2.0
+            nx, ny, nz = normal
+            bow = abs(wafer.bow)  # 0 but for a bowed wafer (SPEC §10), which reaches further
+            mid_z = cz + h * nz
+            half_z = radius * sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
             if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
                 continue
-            found.append(index)
+            px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
+            reach_xy = radius + (0.5 * thickness + bow) * hypot(nx, ny)
+            # min(1, max(0, along)) as comparisons (the same choices, ties and NaN included),
+            # as this runs for every wafer at the beam's height.
+            along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
+            along = along if along > 0.0 else 0.0
+            f = along if along < 1.0 else 1.0
+            if hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
+                found.append(index)
             continue
+        # A level wafer whose XY passed: Z
         thickness = wafer.thickness
-        radius = wafer.diameter / 2.0  # wafer.radius, without the property's call
-        h = thickness / 2.0
-        nx, ny, nz = normal
-        bow = abs(wafer.bow)  # 0 but for a bowed wafer (SPEC §10), which reaches further
-        mid_z = cz + h * nz
-        half_z = radius * sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * thickness + bow) * abs(nz)
+        mid_z = cz + thickness / 2.0
+        half_z = 0.5 * thickness + abs(wafer.bow)
         if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
             continue
-        px, py = (cx + h * nx) - sx, (cy + h * ny) - sy
-        reach_xy = radius + (0.5 * thickness + bow) * hypot(nx, ny)
-        # min(1, max(0, along)) as comparisons (the same choices, ties and NaN included), as
-        # this runs for every wafer at the beam's height.
-        along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
-        along = along if along > 0.0 else 0.0
-        f = along if along < 1.0 else 1.0
-        if hypot(px - f * dx, py - f * dy) <= reach_xy + drift + margin:
-            found.append(index)
+        found.append(index)
     return found

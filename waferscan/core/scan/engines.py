@@ -14,12 +14,14 @@ import math
 from dataclasses import dataclass
 
 from ..geometry.beam import (
+    LEVEL,
     TOUCH_TOLERANCE,
     accessible,
     accessible_wafers,
     beam_hits_wafer,
     beam_hits_wafers,
     paper_beam_hits_wafer,
+    sweep_reach,
     wafer_columns,
 )
 from ..geometry.ranges import translation_range
@@ -57,7 +59,11 @@ def runs_from_blocked(blocked):
 
 def runs_from_intervals(intervals):
     """Union of closed step intervals as runs; intervals that touch or are adjacent merge."""
-    present = [i for i in intervals if i is not None]
+    return _merged_runs([i for i in intervals if i is not None])
+
+
+def _merged_runs(present):
+    """``runs_from_intervals`` of a list of intervals none of which is None (sorted in place)."""
     if not present:
         return ()
     present.sort()
@@ -263,11 +269,13 @@ def settler(layout):
     """``settled_steps`` for one layout, as a function of the edges: what depends on the scan
     alone (its size, its last step) worked out once a scan instead of once a wafer. The same
     values: max over floats and the comparisons are exact, whatever their grouping."""
-    scan = layout.scan
-    start, step, last_k = scan.start_z, scan.z_step, scan.last_step
-    scan_size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]))
+    return _settler(_settling(layout))
+
+
+def _settler(settling):
+    """``settler`` from ``_settling``'s values."""
+    start, step, last_k, scan_size, scan_margin = settling
     ceil, floor = math.ceil, math.floor
-    scan_margin = SETTLED_MARGIN * scan_size / step  # the margin of edges inside the scan's size
 
     def settled(edges):
         e0, e1 = edges
@@ -294,6 +302,15 @@ def settler(layout):
         return (lo, hi) if lo <= hi else None
 
     return settled
+
+
+def _settling(layout):
+    """What ``settler`` reads of the scan once: (start_z, z_step, last step, the scan's size,
+    the margin of edges inside that size)."""
+    scan = layout.scan
+    scan_size = max(1.0, abs(scan.start_z), abs(scan.final_z), abs(layout.beam.emitter[2]))
+    return (scan.start_z, scan.z_step, scan.last_step, scan_size,
+            SETTLED_MARGIN * scan_size / scan.z_step)
 
 
 def snap_to_grid(layout, wafer, edges):
@@ -333,10 +350,9 @@ def analytic_engine(layout, progress=None):
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")
     if not scan.exact:
-        steps, reachable = _stepped_steps(layout)
-        # only the reachable wafers can have steps: the runs of theirs (in the same order)
-        return StepHits(scan.position_count, steps,
-                        runs_from_intervals([steps[i] for i in reachable]))
+        steps, present = _stepped_steps(layout)
+        # runs_from_intervals(steps): only the wafers with steps make runs
+        return StepHits(scan.position_count, steps, _merged_runs(present))
     wafers = layout.wafers
     edges = [None] * len(wafers)
     level_scan = layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0
@@ -375,68 +391,152 @@ def analytic_engine(layout, progress=None):
 
 def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
     """``analytic_engine``'s stepped intervals (z_step > 0), one per wafer of the layout, None
-    where the beam misses it, and the indices of the reachable wafers (ascending). A level
-    wafer of a level scan takes ``level_edger``'s edges written out in this loop, term for term,
-    then ``settler``'s steps (the same floats: the loop against the two in
-    tests/core/test_fab_floor.py, each against its definition in tests/core/test_fixed_cost.py,
-    the engine against ``loop`` in tests/core/test_engines.py). Any other wafer, or edges near
-    a grid position, as before."""
+    where the beam misses it or ``reachable_wafers`` leaves it out, and the list of those not
+    None (in no particular order: the runs' merge sorts them).
+
+    In a level scan (lift along Z, the beam level) one loop over the wafers does, for a level
+    wafer, what ``reachable_wafers`` (``accessible_wafers``' level branch, over the scan's
+    range), ``level_edger`` and ``settler`` do, written out term for term: the same floats
+    (tests/core/test_fab_fast_paths.py checks the loop against the three, and so does
+    tests/core/test_fab_floor.py; each against its definition in tests/core/test_fixed_cost.py,
+    the engine against ``loop`` in tests/core/test_engines.py). A tilted wafer takes
+    ``accessible_wafers`` itself, a bowed one the general edges, edges near a grid position
+    ``snap_to_grid``, as before."""
     wafers = layout.wafers
     steps = [None] * len(wafers)
-    reachable = reachable_wafers(layout)  # only these: most of a fab's wafers are out of reach
+    present = []
     if not (layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0):
-        for i in reachable:
+        for i in reachable_wafers(layout):
             wafer = wafers[i]
             edge = wafer_edges(layout, wafer)
             if edge is not None:
-                steps[i] = snap_to_grid(layout, wafer, edge)
-        return tuple(steps), reachable
-    settled = settler(layout)
+                steps[i] = found = snap_to_grid(layout, wafer, edge)
+                if found is not None:
+                    present.append(found)
+        return tuple(steps), present
+    scan = layout.scan
+    # reachable_wafers: accessible_wafers' values of the beam swept over the scan
+    margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high = \
+        sweep_reach(layout, scan.start_z, scan.final_z)
+    hypot = math.hypot
+    settling = _settling(layout)
+    settled = _settler(settling)
+    start, step, last_k, scan_size, scan_margin = settling
+    ceil, floor = math.ceil, math.floor
     # level_edger's values of the beam, read once a scan
     ox, oy, oz = layout.beam.emitter
     ex, ey, _ = layout.beam.direction
     sqrt, copysign, inf = math.sqrt, math.copysign, math.inf
     qq = ex * ex + ey * ey
     past_end = layout.beam.length + tol
-    for i in reachable:
-        wafer = wafers[i]
-        if wafer.normal != (0.0, 0.0, 1.0):
+    tilted = []  # the wafers that are not level, for accessible_wafers after the loop
+    # The last level wafer's normal, centre X and Y and diameter (the objects), whether it
+    # passed accessible_wafers' XY test (``near``) and whether the beam's line crosses its rim
+    # within the beam (``crossed``), which depend on these alone: the next wafer with the same
+    # objects (a carrier's seated wafers, made from the carrier's numbers), so the same numbers
+    # bit for bit, takes both answers without their arithmetic.
+    same_normal = same_x = same_y = same_diameter = None
+    near = crossed = False
+    for i, wafer in enumerate(wafers):
+        (cx, cy, cz), normal, diameter = wafer.center, wafer.normal, wafer.diameter
+        if normal is same_normal and cx is same_x and cy is same_y and diameter is same_diameter:
+            if not near:
+                continue
+        elif normal == LEVEL:
+            same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
+            # accessible_wafers' XY test of a level wafer: the box, then the distance
+            near = False
+            bound = (diameter / 2.0 + drift) + margin
+            if cx - x_high > bound or x_low - cx > bound or cy - y_high > bound or \
+                    y_low - cy > bound:
+                continue
+            px, py = cx - sx, cy - sy
+            along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
+            along = along if along > 0.0 else 0.0
+            f = along if along < 1.0 else 1.0
+            if not hypot(px - f * dx, py - f * dy) <= bound:
+                continue
+            near = True
+            # level_edger's rim: where the beam's line is within it (rim_span), and whether
+            # that meets the beam
+            wx, wy = ox - cx, oy - cy
+            r = diameter / 2.0 + tol
+            c = wx * wx + wy * wy - r * r
+            if qq == 0.0:
+                crossed = not c > 0.0
+                low, high = -inf, inf
+            else:
+                pq = wx * ex + wy * ey + 0.0
+                disc = pq * pq - qq * c
+                crossed = not disc < 0.0
+                if crossed:
+                    root = -pq - copysign(sqrt(disc), pq)  # rim_roots
+                    r1 = root / qq
+                    r2 = c / root if root != 0.0 else 0.0
+                    low, high = (r1, r2) if r1 <= r2 else (r2, r1)
+            crossed = crossed and not (high < -tol or low > past_end)
+        else:
+            tilted.append(i)
+            continue
+        # accessible_wafers' Z test of a level wafer. Its mid-plane within the scan's range
+        # passes it: subtracting (adding) half_z >= 0 and margin >= 0 gives no more (no less)
+        # than mid_z, rounding being monotonic.
+        thickness, bow = wafer.thickness, wafer.bow
+        mid_z = cz + thickness / 2.0
+        if not (z_bottom <= mid_z <= z_top and thickness >= 0.0):
+            half_z = 0.5 * thickness + abs(bow)
+            if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
+                continue
+        if bow:  # level but bowed: the general edges, then settled (or snapped)
+            edge = wafer_edges(layout, wafer)
+            if edge is None:
+                continue
+            found = settled(edge) or snap_to_grid(layout, wafer, edge)
+        else:
+            if not crossed:
+                continue
+            # level_edger's edges: the faces' heights, widened by the touch tolerance
+            wz = oz - cz
+            low, high = -tol - wz, thickness + tol - wz
+            if low <= high:
+                e0, e1 = oz + low, oz + high
+            else:
+                e0, e1 = oz + high, oz + low
+            # max(|e0|, |e1|) > the scan's size, e0 <= e1 (a NaN, which no comparison
+            # passes, raises in ceil either way)
+            if e1 > scan_size or -e0 > scan_size:
+                found = settled((e0, e1))  # an edge beyond the scan's size widens the margin
+            else:
+                # settled((e0, e1)) with |e0|, |e1| <= the scan's size: its margin is the scan's
+                x0 = (e0 - start) / step
+                x1 = (e1 - start) / step
+                lo, hi = ceil(x0), floor(x1)
+                if lo - x0 <= scan_margin or x0 - lo + 1 <= scan_margin or \
+                        x1 - hi <= scan_margin or hi + 1 - x1 <= scan_margin:
+                    found = None
+                else:
+                    if lo < 0:
+                        lo = 0
+                    if hi > last_k:
+                        hi = last_k
+                    found = (lo, hi) if lo <= hi else None
+            found = found or snap_to_grid(layout, wafer, (e0, e1))
+        if found is not None:
+            steps[i] = found
+            present.append(found)
+    if tilted:
+        # reachable_wafers' answer for them: accessible_wafers' general test (one wafer's
+        # answer does not depend on the others)
+        reached = accessible_wafers(layout, [wafers[i] for i in tilted], scan.start_z,
+                                    scan.final_z)
+        for i in [tilted[j] for j in reached]:
+            wafer = wafers[i]
             edge = wafer_edges(layout, wafer)
             if edge is not None:
-                steps[i] = snap_to_grid(layout, wafer, edge)
-            continue
-        if wafer.bow:  # level but bowed: the general edges, then settled (or snapped)
-            edge = wafer_edges(layout, wafer)
-            if edge is not None:
-                steps[i] = settled(edge) or snap_to_grid(layout, wafer, edge)
-            continue
-        # level_edger's edges(wafer)
-        cx, cy, cz = wafer.center
-        wx, wy, wz = ox - cx, oy - cy, oz - cz
-        r = wafer.diameter / 2.0 + tol
-        c = wx * wx + wy * wy - r * r
-        if qq == 0.0:
-            if c > 0.0:
-                continue
-            low, high = -inf, inf
-        else:
-            pq = wx * ex + wy * ey + 0.0
-            disc = pq * pq - qq * c
-            if disc < 0.0:
-                continue
-            root = -pq - copysign(sqrt(disc), pq)
-            r1 = root / qq
-            r2 = c / root if root != 0.0 else 0.0
-            low, high = (r1, r2) if r1 <= r2 else (r2, r1)
-        if high < -tol or low > past_end:
-            continue
-        low, high = -tol - wz, wafer.thickness + tol - wz
-        if low <= high:
-            e0, e1 = oz + low, oz + high
-        else:
-            e0, e1 = oz + high, oz + low
-        steps[i] = settled((e0, e1)) or snap_to_grid(layout, wafer, (e0, e1))
-    return tuple(steps), reachable
+                steps[i] = found = snap_to_grid(layout, wafer, edge)
+                if found is not None:
+                    present.append(found)
+    return tuple(steps), present
 
 
 # Engines of the CAD layer (waferscan.cad, which needs FreeCAD): named here so that a command

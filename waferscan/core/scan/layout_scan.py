@@ -107,11 +107,16 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)
     stepping = slow_scan.stepping_layout(layout)  # with a jab, the fork in (SPEC §13)
-    hits = (stepper or (lambda lay, prog: run_engine(engine, lay, prog)))(stepping, progress)
+    hits = run_engine(engine, stepping, progress) if stepper is None else \
+        stepper(stepping, progress)
     window = pocket_window(plan) if scan.mode == SLOW else None
+    # Whether the runs' ends are grid positions start_z + k z_step (k >= 0, z_step > 0): never
+    # -0.0, since a sum is -0.0 only where both its terms are, and k z_step is not
+    on_grid = False
     if window is None and not isinstance(hits, ExactHits):
         run_spans, wafers, run_names = stepped_records(hits, scan, layout.wafers)
         wafer_spans = hits.wafer_steps  # None where the scan never met a wafer, as its span
+        on_grid = True
     else:
         if isinstance(hits, ExactHits):
             run_spans, wafer_spans = exact_intervals(hits, window)
@@ -122,8 +127,12 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
     lag = scan.latch_lag
     if scan.mode == SLOW or scan.direction == UP:
         # latcher's (bottom + lag, top + lag), without its call a run; bottom <= top stays so
-        # (rounding is monotonic), so these are also the runs' (bottom, top) below
-        latched = spans = [(bottom + lag, top + lag) for bottom, top in run_spans]
+        # (rounding is monotonic), so these are also the runs' (bottom, top) below. Without a
+        # lag they are the spans themselves: z + 0.0 is z, bit for bit, but for z = -0.0.
+        if lag == 0.0 and on_grid:
+            latched = spans = run_spans
+        else:
+            latched = spans = [(bottom + lag, top + lag) for bottom, top in run_spans]
     else:
         latch_run = latcher(scan)
         latched = [latch_run(bottom, top) for bottom, top in run_spans]
@@ -157,10 +166,12 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
             flagged = sorted(set(flagged) | set(jabbed))
     slot_map = map_slots(plan, spans, flagged, unscanned)
     probe_warnings += two_run_warnings(plan, slot_map, spans)  # "boundary" rules only
-    slot_map = slow_scan.with_position_errors(slot_map, swept_off)
-    # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its code.
-    probe_warnings += [why for slot, why in sorted(dict(swept_off).items())
-                       if slot_map.slots[slot - 1].state == POSITION_ERROR]
+    if swept_off:
+        slot_map = slow_scan.with_position_errors(slot_map, swept_off)
+        # Why a slot reads 5 by its sweep; a slot worse by its runs (cross-slotted) keeps its
+        # code.
+        probe_warnings += [why for slot, why in sorted(dict(swept_off).items())
+                           if slot_map.slots[slot - 1].state == POSITION_ERROR]
     notice = slow_scan.slow_fast_notice(scan)  # SPEC §13: a jab or sweep a fast scan ignores
     probe_warnings += [notice] if notice else []
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,

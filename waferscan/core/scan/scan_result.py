@@ -8,7 +8,8 @@ from __future__ import annotations
 import math
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
-from operator import attrgetter
+from itertools import compress, repeat
+from operator import attrgetter, is_
 
 from ..geometry.beam import LEVEL, PRE_REJECT_SLACK, wafer_bounds
 from ..geometry.ranges import translation_range
@@ -54,8 +55,8 @@ class WaferInterval:
     """First and last scan position (ascending Z, unlatched) at which the beam meets a wafer."""
 
     name: str
-    z_in: float | None
-    z_out: float | None
+    z_in: float | None = None  # None, None: the scan never met the wafer
+    z_out: float | None = None
 
     @property
     def diff(self):
@@ -173,13 +174,16 @@ def stepped_intervals(hits, scan, window):
 
 
 def stepped_records(hits, scan, wafers):
-    """What a stepped scan without a window (fast mode) makes of an engine's ``StepHits``, in one
-    pass over the wafers: the run spans as ``stepped_intervals(hits, scan, None)`` gives them,
-    each wafer's ``WaferInterval`` (``wafer_records`` of its wafer spans) and each run's wafers
-    as ``run_wafers`` names them. Three passes over a fab's 100 wafers, 75 of them out of the
-    beam's reach, were a sixth of its scan_layout; the same values (tests/core/test_fab_floor.py
-    checks them against the three). The wafer spans themselves are not made: a wafer's is None
-    where its steps (``hits.wafer_steps``) are."""
+    """What a stepped scan without a window (fast mode) makes of an engine's ``StepHits``: the
+    run spans as ``stepped_intervals(hits, scan, None)`` gives them, each wafer's
+    ``WaferInterval`` (``wafer_records`` of its wafer spans) and each run's wafers as
+    ``run_wafers`` names them. The records in one comprehension, then the names from the
+    records of the wafers the scan met alone (``compress`` leaves out, without a step of Python
+    each, the wafers whose steps are None: most of a fab's, in other carriers); three passes
+    over a fab's 100 wafers were a sixth of its scan_layout. The same values
+    (tests/core/test_fab_floor.py checks them against the three, tests/core/test_fab_fast_paths.py
+    the whole scan). The wafer spans themselves are not made: a wafer's is None where its
+    steps (``hits.wafer_steps``) are."""
     start, step = scan.start_z, scan.z_step
     run_spans = [(start + first * step, start + last * step) for first, last in hits.runs]
     bottoms = [bottom for bottom, _ in run_spans]
@@ -189,19 +193,22 @@ def stepped_records(hits, scan, wafers):
                 run_wafers(run_spans, wafers, wafer_spans))
     tops = [top for _, top in run_spans]
     names = [[] for _ in run_spans]
-    records = []
-    add = records.append
-    for wafer, steps in zip(wafers, hits.wafer_steps):
-        if steps is None:
-            add(WaferInterval(wafer.name, None, None))
-            continue
-        low, high = start + steps[0] * step, start + steps[1] * step
-        name = wafer.name
-        add(WaferInterval(name, low, high))
-        # run_wafers: the runs with top >= low and bottom <= high
-        for j in range(bisect_left(tops, low), bisect_right(bottoms, high)):
-            names[j].append(name)
-    return run_spans, tuple(records), [tuple(n) for n in names]
+    steps = hits.wafer_steps
+    interval = WaferInterval
+    records = tuple([interval(wafer.name) if k is None else
+                     interval(wafer.name, start + k[0] * step, start + k[1] * step)
+                     for wafer, k in zip(wafers, steps)])
+    for record in compress(records, steps):  # the records whose steps are not None
+        # run_wafers: the runs with top >= z_in and bottom <= z_out (bisect_right from the
+        # first of them on: the same end where there is one, an empty range where none)
+        first = bisect_left(tops, record.z_in)
+        last = bisect_right(bottoms, record.z_out, first)
+        if last == first + 1:  # one run, as a wafer's interval lies in one run of an engine's
+            names[first].append(record.name)
+        else:
+            for j in range(first, last):
+                names[j].append(record.name)
+    return run_spans, records, [tuple(n) for n in names]
 
 
 def wafer_records(wafers, wafer_spans):
@@ -321,7 +328,9 @@ def carrier_protrusions(carrier, wafers):
     ``protrusion``'s sums are written out term for term (the same floats;
     tests/core/test_fixed_cost.py), without a level wafer's zero terms;
     a level wafer further from the carrier's centre in X or Y alone than the circle is left out
-    first (most of a fab's wafers lie in other carriers)."""
+    first (most of a fab's wafers lie in other carriers), and one that shares its X, Y and
+    diameter with the level wafer before takes that one's answer in XY
+    (tests/core/test_fab_fast_paths.py, on stacks that share them)."""
     r = 0.5 * carrier.wafer_diameter
     z_lo = carrier.seat_z(1) - carrier.pitch
     z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
@@ -330,36 +339,47 @@ def carrier_protrusions(carrier, wafers):
     hypot = math.hypot
     found = []
     wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
+    # The last level wafer's normal, centre X and Y and diameter (the objects) and what its XY
+    # said (``amount``: its protrusion when inside the circle, else None), which depends on
+    # these alone: the next wafer with the same objects (a carrier's seated wafers), so the
+    # same numbers bit for bit, takes it without the arithmetic (as accessible_wafers does).
+    same_normal = same_x = same_y = same_diameter = None
+    amount = None
     for wafer in wafers:
-        cx, cy, cz = wafer.center
-        # A level wafer of another carrier, left out by X or Y alone: its normal is read only
-        # when it lies that far (most of a fab's wafers), which a third of the pass was
-        if (cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide) and \
-                wafer.normal == LEVEL:
-            continue
-        normal = wafer.normal
-        if normal == LEVEL:
-            # n = (0, 0, 1): cz + h * 1 = cz + h, cx + h * 0 = cx (but for a -0.0, which no
-            # distance or sum below tells from 0.0), as for most of a fab's wafers
-            mz = cz + wafer.thickness / 2.0
+        (cx, cy, cz), normal, diameter = wafer.center, wafer.normal, wafer.diameter
+        if normal is same_normal and cx is same_x and cy is same_y and diameter is same_diameter:
+            if amount is None:
+                continue
+        elif normal == LEVEL:
+            same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
+            amount = None
+            # A level wafer of another carrier, left out by X or Y alone (most of a fab's)
+            if cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide:
+                continue
+            dx, dy = cx - ox, cy - oy
+            if not hypot(dx, dy) < r:
+                continue
+            # front_reach of a level wafer: R·sqrt(1 - 0²) = R, nothing from its thickness
+            amount = dx * fx + dy * fy + diameter / 2.0 - r
+        else:
+            h = wafer.thickness / 2.0
+            nx, ny, nz = normal
+            mz = cz + h * nz
             if not z_lo <= mz <= z_hi:
                 continue
-            if hypot(cx - ox, cy - oy) < r:
-                # front_reach of a level wafer: R·sqrt(1 - 0²) = R, nothing from its thickness
-                found.append((wafer, (cx - ox) * fx + (cy - oy) * fy + wafer.diameter / 2.0 - r))
+            mx, my = cx + h * nx, cy + h * ny
+            if hypot(mx - ox, my - oy) < r:
+                # ``protrusion``'s sums: the solid's frontmost point, from the bottom centre
+                reach = (cx - ox) * fx + (cy - oy) * fy
+                reach += front_reach(diameter / 2.0, wafer.thickness, wafer.bow,
+                                     nx * fx + ny * fy)
+                found.append((wafer, reach - r))
             continue
-        h = wafer.thickness / 2.0
-        nx, ny, nz = normal
-        mz = cz + h * nz
-        if not z_lo <= mz <= z_hi:
-            continue
-        mx, my = cx + h * nx, cy + h * ny
-        if hypot(mx - ox, my - oy) < r:
-            # ``protrusion``'s sums: the solid's frontmost point, from the bottom centre
-            reach = (cx - ox) * fx + (cy - oy) * fy
-            reach += front_reach(wafer.diameter / 2.0, wafer.thickness, wafer.bow,
-                                 nx * fx + ny * fy)
-            found.append((wafer, reach - r))
+        # A level wafer inside the circle: Z. n = (0, 0, 1): cz + h * 1 = cz + h, cx + h * 0
+        # = cx (but for a -0.0, which no distance or sum above tells from 0.0)
+        mz = cz + wafer.thickness / 2.0
+        if z_lo <= mz <= z_hi:
+            found.append((wafer, amount))
     return found
 
 
@@ -418,10 +438,10 @@ def protrusions_by_slot(carrier, plan, wafers):
     every carrier wafer's (name, protrusion)): which wafers make a slot protrude, and by how
     much, for the words of a finding."""
     by_slot = {}
-    found = []
     limit = plan.protrusion_limit
-    for wafer, amount in carrier_protrusions(carrier, wafers):
-        found.append((wafer.name, amount))
+    inside = carrier_protrusions(carrier, wafers)
+    found = tuple([(wafer.name, amount) for wafer, amount in inside])
+    for wafer, amount in inside:
         if amount > limit:
             (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
             slots = {plan.nearest_slot(z0)}
@@ -430,7 +450,7 @@ def protrusions_by_slot(carrier, plan, wafers):
                     slots.add(slot)
             for slot in slots:
                 by_slot.setdefault(slot, []).append((wafer.name, amount))
-    return by_slot, tuple(found)
+    return by_slot, found
 
 
 def scanned_range(scan, window=None):
@@ -450,6 +470,7 @@ def scanned_range(scan, window=None):
 
 
 _thickness = attrgetter("thickness")
+_carrier = attrgetter("carrier")
 
 
 def scan_warnings(layout, plan, run_spans, scanned, unscanned, visited):
@@ -532,12 +553,15 @@ def missed_by_beam(layout, beam, wafer_spans):
         return ()
     carrier = layout.scanned_carrier.name
     mine = (None, carrier)
-    # The scanned carrier's (and the free) wafers the scan never met, in the layout's order:
-    # one comprehension over the wafers, which in a fab are mostly other carriers'
-    unmet = [wafer for wafer, span in zip(layout.wafers, wafer_spans)
-             if span is None and wafer.carrier in mine]
-    if not unmet:
+    # The wafers the scan never met (compress: those whose span is None), and whether any is
+    # the scanned carrier's or a free one: by their carriers' names, without a step of Python
+    # a wafer (in a fab, the other carriers' wafers are most and all unmet)
+    unmet = list(compress(layout.wafers, map(is_, wafer_spans, repeat(None))))
+    unmet_carriers = set(map(_carrier, unmet))
+    if carrier not in unmet_carriers and None not in unmet_carriers:
         return ()
+    # those, in the layout's order
+    unmet = [wafer for wafer in unmet if wafer.carrier in mine]
     missed = [(wafer.name, beam_miss(beam, layout.lift_axis, wafer)) for wafer in unmet
               if translation_range(beam.emitter, beam, layout.lift_axis, wafer) is None]
     if not missed:
