@@ -111,3 +111,20 @@ def test_clear_spans_of_the_robots_fork_give_every_poses_answer(monkeypatch):
     assert _report(layout, ()) == spanned
     assert '"distance": -2.4486' in spanned and '"obstacle": "LP1_W04"' in spanned
     assert len(calls) > 1200 and asked < len(calls) / 3
+
+
+def test_the_wafers_solids_made_once_name_the_slots_of_the_carrier_scanned():
+    """The coal solids of a layout's wafers are made once for the same wafers
+    (``_wafer_items``), but the slots they name are the scanned carrier's: the same wafers
+    scanned as another carrier (an MCS ``carrier =`` parameter) report that carrier's slots, as
+    a body made afresh does (a second reader's case: S2's wafers had no slot)."""
+    from dataclasses import replace
+
+    layout = parse_scenario(stack_scenario(2), "stack.toml")
+    other = replace(layout, carrier="S2")
+    assert other.wafers is layout.wafers
+    _report(layout, ())  # S1 scanned first: its wafers' solids made
+    after = _report(other, ())
+    clearance._WAFERS_MADE.clear()
+    assert _report(other, ()) == after
+    assert '"obstacle": "S2_' in after and '"slot": null' not in after

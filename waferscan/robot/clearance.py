@@ -311,7 +311,7 @@ def _wafer_items(scanned, wafers):
     the paper's clearance check. (name, slot, geometry, transform, centre, radius, low, high,
     None)."""
     for carrier, known, items in _WAFERS_MADE:
-        if known is wafers or (carrier == scanned and known == wafers):
+        if carrier == scanned and (known is wafers or known == wafers):
             return items
     items = []
     for wafer in wafers:
