@@ -71,7 +71,10 @@ def main():
                           frames_per_second=(len(times) - 1) / (times[-1] - times[0]),
                           max_stall=max(gaps), fault=animation.fault,
                           view_size=_view_size(view))
-            result.update(_drawn_on_demand(doc, view))
+            try:
+                result.update(_drawn_on_demand(doc, view))
+            except Exception:  # the animation's figures stand without these
+                result["on_demand_error"] = traceback.format_exc()
             finish(result)
 
         animation.moved.connect(frame)
