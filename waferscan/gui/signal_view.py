@@ -121,6 +121,7 @@ class SignalView(QtGui.QWidget):
         span = max(high - low, 1e-9)
         pixels = max(x(high) - x(low), 1.0)
         self.ticks = []
+        values = labels = ()
         for exponent in range(-3, 7):
             for mantissa in (1.0, 2.0, 5.0):
                 step = mantissa * 10.0 ** exponent

@@ -5,8 +5,9 @@ kernel never sees; another kernel; no inotify watches left) there is nothing to 
 link polls every ``--poll`` seconds as before.
 
 ``FolderWatch(folder).wait(seconds, stop)`` returns as soon as something in the folder was
-written, created, moved or deleted, a stop was asked for (``stop.is_set()``, looked at every
-``STOP_SLICE`` seconds, as ``StopFlag.wait`` does), or ``seconds`` passed. A folder that is
+written, created, moved or deleted, a stop was asked for (``stop.is_set()``: at once for the
+MCS link's ``StopFlag``, whose pipe wakes the wait; every ``STOP_SLICE`` seconds for a flag
+that can only be looked at), or ``seconds`` passed. A folder that is
 removed loses its watch; the watch is made again once a folder of that name is back, and
 meanwhile ``active`` is False (the caller polls)."""
 
@@ -149,7 +150,10 @@ class FolderWatch:
         # the deadline; another is looked at every STOP_SLICE (20 wake-ups a second). Its file
         # descriptor is polled during this wait only (a flag's pipe closes with the flag).
         make = getattr(stop, "wake_fd", None) if self.active else None
-        wake = None if make is None else make()
+        try:
+            wake = None if make is None else make()
+        except OSError:  # no file descriptor left for its pipe: the flag in slices
+            wake = None
         if wake is None:
             return self._wait(seconds, stop, None)
         self._poller.register(wake, select.POLLIN)
