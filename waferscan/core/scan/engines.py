@@ -406,13 +406,7 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
     steps = [None] * len(wafers)
     present = []
     if not (layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0):
-        for i in reachable_wafers(layout):
-            wafer = wafers[i]
-            edge = wafer_edges(layout, wafer)
-            if edge is not None:
-                steps[i] = found = snap_to_grid(layout, wafer, edge)
-                if found is not None:
-                    present.append(found)
+        _snapped(layout, reachable_wafers(layout), steps, present)
         return tuple(steps), present
     scan = layout.scan
     # reachable_wafers: accessible_wafers' values of the beam swept over the scan
@@ -529,14 +523,21 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
         # answer does not depend on the others)
         reached = accessible_wafers(layout, [wafers[i] for i in tilted], scan.start_z,
                                     scan.final_z)
-        for i in [tilted[j] for j in reached]:
-            wafer = wafers[i]
-            edge = wafer_edges(layout, wafer)
-            if edge is not None:
-                steps[i] = found = snap_to_grid(layout, wafer, edge)
-                if found is not None:
-                    present.append(found)
+        _snapped(layout, [tilted[j] for j in reached], steps, present)
     return tuple(steps), present
+
+
+def _snapped(layout, indices, steps, present):
+    """The general edges of the wafers ``indices`` snapped to the grid: each one's steps into
+    ``steps`` (None where the beam misses it), those not None appended to ``present``."""
+    wafers = layout.wafers
+    for i in indices:
+        wafer = wafers[i]
+        edge = wafer_edges(layout, wafer)
+        if edge is not None:
+            steps[i] = found = snap_to_grid(layout, wafer, edge)
+            if found is not None:
+                present.append(found)
 
 
 # Engines of the CAD layer (waferscan.cad, which needs FreeCAD): named here so that a command
