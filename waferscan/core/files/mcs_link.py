@@ -50,6 +50,7 @@ import os
 import re
 import stat
 import sys
+import threading
 import time
 import traceback
 from dataclasses import dataclass
@@ -95,6 +96,9 @@ class LockLost(Exception):
     stops answering."""
 
 
+_PIPE_MADE = threading.Lock()  # StopFlag.wake_fd: one pipe a flag
+
+
 class StopFlag:
     """Set by SIGINT or SIGTERM (``stop_on_signals``): a plain flag. A signal handler runs in
     the main thread between any two of its steps, so it must take no lock the main thread may
@@ -122,9 +126,11 @@ class StopFlag:
         descriptors (``folder_watch.FolderWatch.wait``) to end at the request instead of
         looking at the flag in slices: an idle watcher then sleeps until something happens."""
         if self._wake is None:
-            self._wake = os.pipe2(os.O_NONBLOCK | os.O_CLOEXEC)
-            if self.requested:  # requested before the pipe was there
-                self.set()
+            with _PIPE_MADE:  # (waiters only: a handler's set() takes no lock)
+                if self._wake is None:  # two waiting threads make one pipe
+                    self._wake = os.pipe2(os.O_NONBLOCK | os.O_CLOEXEC)
+                    if self.requested:  # requested before the pipe was there
+                        self.set()
         return self._wake[0]
 
     def __del__(self):
