@@ -288,12 +288,29 @@ def sweep_reach(layout, z_from, z_to, tol=TOUCH_TOLERANCE):
     return (margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high)
 
 
+def level_near(reach, cx, cy, diameter):
+    """``accessible``'s test in X and Y of a level wafer centred at (cx, cy) against the beam
+    swept as ``reach`` (``sweep_reach``) says: first the box about the beam's footprint, then the
+    distance to it. (A level wafer passes ``accessible`` when this and its Z test pass.)"""
+    margin, _, _, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high = reach
+    bound = (diameter / 2.0 + drift) + margin
+    if cx - x_high > bound or x_low - cx > bound or cy - y_high > bound or y_low - cy > bound:
+        return False
+    # The general lines of accessible_wafers with n = (0, 0, 1), which give these values exactly
+    # (h*0 = 0, x + 0 = x, radius*sqrt(0) = 0, x*1 = x).
+    px, py = cx - sx, cy - sy
+    along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
+    along = along if along > 0.0 else 0.0
+    f = along if along < 1.0 else 1.0
+    return math.hypot(px - f * dx, py - f * dy) <= bound
+
+
 def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
     """Indices of the ``wafers`` that pass ``accessible(layout, wafer, z_from, z_to)``: the same
     bounds in the same arithmetic, so the same answers, with what depends on the beam alone
     worked out once instead of once per wafer (``sweep_reach``)."""
-    margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high = \
-        sweep_reach(layout, z_from, z_to, tol)
+    reach = sweep_reach(layout, z_from, z_to, tol)
+    margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift = reach[:9]
     hypot, sqrt = math.hypot, math.sqrt
     found = []
     # The last level wafer's normal, centre X and Y and diameter (the objects), and whether it
@@ -308,24 +325,13 @@ def accessible_wafers(layout, wafers, z_from, z_to, tol=TOUCH_TOLERANCE):
             if not near:
                 continue
         elif normal == LEVEL:
+            # A level wafer (most of a fab's): XY first, which leaves out most of a fab's
+            # wafers (those of the other carriers) before their thickness and bow are read.
+            # Both tests must pass: their order changes no answer.
             same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
-            near = False
-            bound = (diameter / 2.0 + drift) + margin
-            if cx - x_high > bound or x_low - cx > bound or cy - y_high > bound or \
-                    y_low - cy > bound:
+            near = level_near(reach, cx, cy, diameter)
+            if not near:
                 continue
-            # A level wafer (most of a fab's): the general lines below with n = (0, 0, 1), which
-            # give these values exactly (h*0 = 0, x + 0 = x, radius*sqrt(0) = 0, x*1 = x); XY
-            # first, which leaves out most of a fab's wafers (those of the other carriers)
-            # before their thickness and bow are read. Both tests must pass: their order
-            # changes no answer.
-            px, py = cx - sx, cy - sy
-            along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
-            along = along if along > 0.0 else 0.0
-            f = along if along < 1.0 else 1.0
-            if not hypot(px - f * dx, py - f * dy) <= bound:
-                continue
-            near = True
         else:
             thickness = wafer.thickness
             radius = diameter / 2.0  # wafer.radius, without the property's call

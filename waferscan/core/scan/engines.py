@@ -20,6 +20,7 @@ from ..geometry.beam import (
     accessible_wafers,
     beam_hits_wafer,
     beam_hits_wafers,
+    level_near,
     paper_beam_hits_wafer,
     sweep_reach,
     wafer_columns,
@@ -410,9 +411,8 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
         return tuple(steps), present
     scan = layout.scan
     # reachable_wafers: accessible_wafers' values of the beam swept over the scan
-    margin, z_top, z_bottom, sx, sy, dx, dy, dd, drift, x_low, x_high, y_low, y_high = \
-        sweep_reach(layout, scan.start_z, scan.final_z)
-    hypot = math.hypot
+    reach = sweep_reach(layout, scan.start_z, scan.final_z)
+    margin, z_top, z_bottom = reach[:3]
     settling = _settling(layout)
     settled = _settler(settling)
     start, step, last_k, scan_size, scan_margin = settling
@@ -438,19 +438,10 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
                 continue
         elif normal == LEVEL:
             same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
-            # accessible_wafers' XY test of a level wafer: the box, then the distance
-            near = False
-            bound = (diameter / 2.0 + drift) + margin
-            if cx - x_high > bound or x_low - cx > bound or cy - y_high > bound or \
-                    y_low - cy > bound:
+            # accessible_wafers' XY test of a level wafer
+            near = level_near(reach, cx, cy, diameter)
+            if not near:
                 continue
-            px, py = cx - sx, cy - sy
-            along = 0.0 if dd == 0.0 else (px * dx + py * dy) / dd
-            along = along if along > 0.0 else 0.0
-            f = along if along < 1.0 else 1.0
-            if not hypot(px - f * dx, py - f * dy) <= bound:
-                continue
-            near = True
             # level_edger's rim: where the beam's line is within it (rim_span), and whether
             # that meets the beam
             wx, wy = ox - cx, oy - cy

@@ -202,12 +202,8 @@ def stepped_records(hits, scan, wafers):
         # run_wafers: the runs with top >= z_in and bottom <= z_out (bisect_right from the
         # first of them on: the same end where there is one, an empty range where none)
         first = bisect_left(tops, record.z_in)
-        last = bisect_right(bottoms, record.z_out, first)
-        if last == first + 1:  # one run, as a wafer's interval lies in one run of an engine's
-            names[first].append(record.name)
-        else:
-            for j in range(first, last):
-                names[j].append(record.name)
+        for j in range(first, bisect_right(bottoms, record.z_out, first)):
+            names[j].append(record.name)
     return run_spans, records, [tuple(n) for n in names]
 
 
