@@ -13,6 +13,7 @@ __all__ = [
     "PAPER_WITHOUT_ROBOT", "SLOW_JAB",
     "SLOW_JAB_TEXT", "SLOW_JAB_WITHOUT_ROBOT", "paper_with", "drifted_paper", "with_lines",
     "one_carrier", "free_wafer", "uniform", "normal", "SWEEP_TOLERANCES", "beams_and_wafers",
+    "fab_with",
 ]
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -182,3 +183,22 @@ def beams_and_wafers(rng, count, lengths=(400.0, 250.0, 120.0), bowed=False):
             wafer = replace(wafer, bow=rng.uniform(-0.3, 0.3))
         cases.append((emitter, Beam(emitter, direction, length), wafer))
     return cases
+
+
+def fab_with(states=None, foups=4, **scan):
+    """The bench's fab (``foups`` FOUPs at 0.001 mm unless ``scan`` says otherwise), LP1 loaded
+    slot by slot with ``states`` (scenario states; None: as the bench loads it)."""
+    from waferscan.bench.workloads import fab_layout, paper_layout
+    from waferscan.core.files.scenario import seated_wafers
+
+    fab = fab_layout(paper_layout(PAPER), foups=foups)
+    if states is not None:
+        lp1 = fab.carriers[0]
+        wafers, n = [], 1
+        for slot, state in enumerate(states, start=1):
+            made = seated_wafers(lp1, slot, state, n)
+            wafers += made
+            n += len(made)
+        fab = replace(fab, wafers=tuple(wafers) + tuple(w for w in fab.wafers
+                                                         if w.carrier != "LP1"))
+    return fab.with_scan(**scan) if scan else fab

@@ -24,10 +24,9 @@ from dataclasses import replace
 
 import pytest
 from random_layouts import random_layout
-from scenarios import PAPER
+from scenarios import PAPER, fab_with
 
 from waferscan.bench.workloads import fab_layout, paper_layout, stack_layout
-from waferscan.core.files.scenario import seated_wafers
 from waferscan.core.geometry.beam import accessible, accessible_wafers, wafer_bounds
 from waferscan.core.geometry.ranges import translation_range
 from waferscan.core.mapping import (
@@ -307,18 +306,6 @@ def test_missed_by_beam_finds_the_unmet_wafers_as_before():
         assert missed_by_beam(layout, layout.beam, tuple(spans)) == expected, seed
         warned += bool(expected)
     assert warned > 50
-
-
-def fab_with(states, foups=4, **scan):
-    fab = fab_layout(paper_layout(PAPER), foups=foups)
-    lp1 = fab.carriers[0]
-    wafers, n = [], 1
-    for slot, state in enumerate(states, start=1):
-        made = seated_wafers(lp1, slot, state, n)
-        wafers += made
-        n += len(made)
-    fab = replace(fab, wafers=tuple(wafers) + tuple(w for w in fab.wafers if w.carrier != "LP1"))
-    return fab.with_scan(**scan) if scan else fab
 
 
 def layouts():

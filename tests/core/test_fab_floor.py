@@ -9,11 +9,10 @@ from dataclasses import replace
 
 import pytest
 from random_layouts import random_layout
-from scenarios import PAPER
+from scenarios import PAPER, fab_with
 
 from waferscan.bench.fab_floor import fab_floor_inputs, scan_plainly
-from waferscan.bench.workloads import fab_layout, paper_layout
-from waferscan.core.files.scenario import seated_wafers
+from waferscan.bench.workloads import paper_layout
 from waferscan.core.mapping import (
     BOUNDARY,
     EMPTY,
@@ -39,21 +38,6 @@ from waferscan.core.scan.scan_result import (
 )
 
 STATES = ("absent", "present", "double", "thin", "misplaced", "protruding")
-
-
-def fab_with(states=None, foups=4, **scan):
-    """fab (4 FOUPs at 0.001 mm unless said), LP1 loaded slot by slot with ``states``."""
-    fab = fab_layout(paper_layout(PAPER), foups=foups)
-    if states is not None:
-        lp1 = fab.carriers[0]
-        wafers, n = [], 1
-        for slot, state in enumerate(states, start=1):
-            made = seated_wafers(lp1, slot, state, n)
-            wafers += made
-            n += len(made)
-        fab = replace(fab, wafers=tuple(wafers) + tuple(w for w in fab.wafers
-                                                         if w.carrier != "LP1"))
-    return fab.with_scan(**scan) if scan else fab
 
 
 def assert_floor_is_scan_layout(layout):
