@@ -16,6 +16,8 @@ from processes import RUN_VARIABLE, run_in_own_group
 from scenarios import PAPER
 from scenarios import ROOT as REPO
 
+from waferscan.xvfb import xvfb_run
+
 FREECADCMD = shutil.which("freecadcmd")
 FREECAD = shutil.which("freecad")
 GIT = shutil.which("git")
@@ -172,8 +174,8 @@ def test_in_the_gui_a_robot_layout_gives_the_message_and_a_robotless_one_builds(
                WAFERSCAN_GUI_RESULT=str(result_file),
                WAFERSCAN_GUI_PROBES=str(REPO / "tests" / "gui"),
                WAFERSCAN_ROBOTLESS=str(installed["robotless"]))
-    command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
-               str(result_file.with_name("user.cfg")), str(GUI_PROBE)]
+    command = [*xvfb_run("1400x1000"), FREECAD, "-u", str(result_file.with_name("user.cfg")),
+               str(GUI_PROBE)]
     _, output, timed_out = run_in_own_group(command, timeout=180, env=env)
     if timed_out:
         pytest.fail(f"FreeCAD GUI did not quit within 180 s:\n{output}")

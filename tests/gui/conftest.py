@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 from processes import run_in_own_group
 
+from waferscan.xvfb import xvfb_run
+
 FREECAD = shutil.which("freecad")
 PROBES = Path(__file__).resolve().parent  # probes import probe_steps from here
 TIMEOUT_S = 180
@@ -27,8 +29,7 @@ def run_gui_probe(tmp_path_factory):
                    **extra_env)
         # A user config of its own: preferences a probe sets stay out of the user's FreeCAD.
         user_cfg = result_file.with_name("user.cfg")
-        command = ["xvfb-run", "-a", "-s", f"-screen 0 {screen}x24", FREECAD, "-u",
-                   str(user_cfg), str(probe)]
+        command = [*xvfb_run(screen), FREECAD, "-u", str(user_cfg), str(probe)]
         # Own process group: however the probe ends (done, timeout, Ctrl-C), xvfb-run, Xvfb and
         # FreeCAD all go with it.
         returncode, output, timed_out = run_in_own_group(command, timeout=TIMEOUT_S, env=env)

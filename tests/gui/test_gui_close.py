@@ -12,6 +12,8 @@ import pytest
 from processes import run_in_own_group
 from scenarios import PAPER_TEXT, PAPER_WITHOUT_ROBOT
 
+from waferscan.xvfb import xvfb_run
+
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("close_probe.py")
 ARTIFACTS = REPO / "test-artifacts"
@@ -31,8 +33,7 @@ def closes(request, tmp_path_factory):
     env = dict(os.environ, QTWEBENGINE_DISABLE_SANDBOX="1", WAFERSCAN_GUI_RESULT=str(result_file),
                WAFERSCAN_GUI_PROBES=str(PROBE.parent), WAFERSCAN_GUI_ARTIFACTS=str(ARTIFACTS),
                WAFERSCAN_GUI_SCENARIO=str(scenario), WAFERSCAN_GUI_SHOT=shot)
-    command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
-               str(folder / "user.cfg"), str(PROBE)]
+    command = [*xvfb_run("1400x1000"), FREECAD, "-u", str(folder / "user.cfg"), str(PROBE)]
     returncode, output, timed_out = run_in_own_group(command, timeout=300, env=env)
     assert not timed_out, output
     assert result_file.exists(), f"the probe wrote no result (rc {returncode}):\n{output}"

@@ -16,6 +16,8 @@ from pathlib import Path
 import pytest
 from processes import run_in_own_group
 
+from waferscan.xvfb import xvfb_run
+
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("quit_probe.py")
 EXAMPLES = REPO / "resources" / "examples"
@@ -41,8 +43,7 @@ def test_quitting_during_a_scan_exits_cleanly(tmp_path, phase, scenario):
     env = dict(os.environ, QTWEBENGINE_DISABLE_SANDBOX="1", WAFERSCAN_GUI_RESULT=str(result_file),
                WAFERSCAN_GUI_PROBES=str(PROBE.parent), WAFERSCAN_GUI_QUIT_IN=phase,
                WAFERSCAN_GUI_SCENARIO=str(EXAMPLES / scenario))
-    command = ["xvfb-run", "-a", "-s", "-screen 0 1400x1000x24", FREECAD, "-u",
-               str(tmp_path / "user.cfg"), str(PROBE)]
+    command = [*xvfb_run("1400x1000"), FREECAD, "-u", str(tmp_path / "user.cfg"), str(PROBE)]
     returncode, output, timed_out = run_in_own_group(command, timeout=150, env=env)
     assert not timed_out, output[-3000:]  # before: hung after the crash
     result = json.loads(result_file.read_text(encoding="utf-8"))

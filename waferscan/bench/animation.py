@@ -15,6 +15,7 @@ import tempfile
 from pathlib import Path
 
 from ..addon import addon_root
+from ..xvfb import xvfb_run
 
 __all__ = ["gui_animation"]
 
@@ -33,7 +34,7 @@ def gui_animation(layout_path, seconds=3.0):
     if not os.environ.get("DISPLAY"):
         if shutil.which("xvfb-run") is None:
             return None
-        command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24"] + command
+        command = xvfb_run("1280x800") + command
     with tempfile.TemporaryDirectory() as folder:
         result_path = Path(folder) / "result.json"
         env = dict(os.environ, WAFERSCAN_BENCH_LAYOUT=str(layout_path),
