@@ -42,9 +42,12 @@ cleanup() {
   done
 }
 status=0
-trap 'cleanup; exit "$status"' EXIT
+# The clean-up runs to its end: a second signal (a double Ctrl-C) would otherwise end the shell
+# between two unmounts, and a closed output (a Ctrl-C'd `| tee`) would end it at its first word.
+trap 'trap "" INT TERM HUP PIPE; cleanup; exit "$status"' EXIT
 trap 'status=130; exit' INT
 trap 'status=143; exit' TERM
+trap 'status=129; exit' HUP
 
 mount_in() {   # mount_in TARGET MOUNT-ARGS...
   local target="$root$1"

@@ -2,10 +2,11 @@
 
 ``xvfb-run -a`` takes the first display number whose lock file is not in ``/tmp``, counting from
 ``-n`` (99 by default). Two X servers that cannot see each other's ``/tmp`` (this machine and a
-chroot, such as the FreeCAD 1.0 test root) would both take ``:99``; their listening sockets live
-in the network namespace they share, and the second server dies. ``WAFERSCAN_XVFB_FIRST`` sets
-where the count starts, so that such a pair keeps apart (``scripts/freecad1-run.sh`` starts its
-root's displays at :200). No FreeCAD import here.
+chroot, such as the FreeCAD 1.0 test root) both pick ``:99``, while their listening sockets live
+in the network namespace they share: the second server fails to start, and Debian's xvfb-run
+tries the next number (up to ten times). ``WAFERSCAN_XVFB_FIRST`` sets where the count starts,
+so that such a pair does not meet at all (``scripts/freecad1-run.sh`` starts its root's displays
+at :200). No FreeCAD import here.
 """
 
 import os
@@ -25,7 +26,7 @@ def first_display(environ=None):
     text = (os.environ if environ is None else environ).get("WAFERSCAN_XVFB_FIRST", "").strip()
     if not text:
         return DEFAULT_FIRST
-    if not text.isdigit() or not 1 <= int(text) <= LAST_FIRST:
+    if not (text.isascii() and text.isdecimal()) or not 1 <= int(text) <= LAST_FIRST:
         raise InputError("WAFERSCAN_XVFB_FIRST", None, f"{text!r}: a display number from 1 "
                          f"to {LAST_FIRST} is expected")
     return int(text)
