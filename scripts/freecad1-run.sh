@@ -75,9 +75,9 @@ for name in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY HYPO
   [ -n "${!name:-}" ] && pass_env+=("$name=${!name}")
 done
 
-# X displays in the root count from :200 (waferscan/xvfb.py): its /tmp is its own, so xvfb-run
-# there cannot see the host's lock files, and a host suite's Xvfb (from :99) running at the same
-# time would take the same listening socket (the network namespace is shared).
+# X displays in the root count from :200 (waferscan/bench/xvfb.py): its /tmp is its own, so
+# xvfb-run there cannot see the host's lock files, and a host suite's Xvfb (from :99) running at
+# the same time would want the same listening socket (the network namespace is shared).
 pass_env+=(WAFERSCAN_XVFB_FIRST=200)
 
 [ $# -gt 0 ] || set -- bash

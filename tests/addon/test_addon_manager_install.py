@@ -16,7 +16,7 @@ from processes import RUN_VARIABLE, run_in_own_group
 from scenarios import PAPER
 from scenarios import ROOT as REPO
 
-from waferscan.xvfb import xvfb_run
+from waferscan.bench.xvfb import xvfb_run
 
 FREECADCMD = shutil.which("freecadcmd")
 FREECAD = shutil.which("freecad")

@@ -39,15 +39,32 @@ def culled(doc):
 
 
 def screen(view, name):
-    """The 3D view's pixels as the screen shows them (drawn and composed), saved as ``name``."""
-    for _ in range(3):
-        view.redraw()
-        Gui.updateGui()
+    """The 3D view's pixels as the screen shows them (drawn and composed), saved as ``name``:
+    grabbed until two grabs in a row are the same picture, so that a view still settling (a
+    camera moved by ViewSelection, a frame not yet composed on a loaded machine, where one such
+    grab once differed from the next in 12 pixels) is not compared."""
+    import time
+
     viewport = view.graphicsView().viewport()
     corner = viewport.mapToGlobal(QtCore.QPoint(0, 0))
-    image = QtGui.QApplication.primaryScreen().grabWindow(
-        0, corner.x(), corner.y(), viewport.width(), viewport.height()).toImage()
-    image = image.convertToFormat(QtGui.QImage.Format_RGB32)
+
+    def grab():
+        for _ in range(3):
+            view.redraw()
+            Gui.updateGui()
+        image = QtGui.QApplication.primaryScreen().grabWindow(
+            0, corner.x(), corner.y(), viewport.width(), viewport.height()).toImage()
+        return image.convertToFormat(QtGui.QImage.Format_RGB32)
+
+    image = grab()
+    for _ in range(20):
+        time.sleep(0.05)
+        again = grab()
+        if differing_pixels(image, again) == 0:
+            break
+        image = again
+    else:
+        raise RuntimeError(f"{name}: the 3D view did not settle in 20 grabs")
     image.save(artifact(name))
     return image
 

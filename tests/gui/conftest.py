@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from processes import run_in_own_group
 
-from waferscan.xvfb import xvfb_run
+from waferscan.bench.xvfb import xvfb_run
 
 FREECAD = shutil.which("freecad")
 PROBES = Path(__file__).resolve().parent  # probes import probe_steps from here

@@ -12,7 +12,7 @@ import pytest
 from processes import run_in_own_group
 from scenarios import PAPER_TEXT, PAPER_WITHOUT_ROBOT
 
-from waferscan.xvfb import xvfb_run
+from waferscan.bench.xvfb import xvfb_run
 
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("close_probe.py")

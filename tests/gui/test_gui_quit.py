@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 from processes import run_in_own_group
 
-from waferscan.xvfb import xvfb_run
+from waferscan.bench.xvfb import xvfb_run
 
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("quit_probe.py")

@@ -1,5 +1,6 @@
-"""Where `xvfb-run -a` starts counting display numbers (waferscan/xvfb.py): $WAFERSCAN_XVFB_FIRST
-keeps the FreeCAD 1.0 root's X servers apart from the host's when both suites run at once."""
+"""Where `xvfb-run -a` starts counting display numbers (waferscan/bench/xvfb.py):
+$WAFERSCAN_XVFB_FIRST keeps the FreeCAD 1.0 root's X servers apart from the host's when both
+suites run at once."""
 
 import re
 import shutil
@@ -8,7 +9,7 @@ import subprocess
 import pytest
 
 from waferscan.core.errors import InputError
-from waferscan.xvfb import first_display, xvfb_run
+from waferscan.bench.xvfb import first_display, xvfb_run
 
 
 def test_the_count_starts_at_xvfb_runs_own_99_unless_told():

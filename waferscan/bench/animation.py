@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 from ..addon import addon_root
-from ..xvfb import xvfb_run
+from .xvfb import xvfb_run
 
 __all__ = ["gui_animation"]
 

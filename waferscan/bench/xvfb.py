@@ -11,7 +11,7 @@ at :200). No FreeCAD import here.
 
 import os
 
-from .core.errors import InputError
+from ..core.errors import InputError
 
 __all__ = ["first_display", "xvfb_run"]
 
