@@ -24,14 +24,16 @@ from waferscan.core.scan.engines import (
 SEEDS = range(400)
 
 
-@pytest.mark.parametrize("chunk", [10, 2_000_000])
-def test_engines_agree_on_random_layouts(chunk):
-    """loop, vector (in small and large chunks) and analytic give identical stepped results."""
+def test_engines_agree_on_random_layouts():
+    """loop, vector (in small and large chunks) and analytic give identical stepped results
+    (the loop's reference worked out once a layout: it is most of the time)."""
     blocked_steps = 0
     for seed in SEEDS:
         layout = random_layout(random.Random(seed))
         reference = loop_engine(layout)
-        assert vector_engine(layout, chunk_elements=chunk) == reference, f"seed {seed}"
+        for chunk in (10, 2_000_000):
+            assert vector_engine(layout, chunk_elements=chunk) == reference, \
+                f"seed {seed}, chunks of {chunk}"
         assert analytic_engine(layout) == reference, f"seed {seed}"
         blocked_steps += sum(b - a + 1 for a, b in reference.runs)
     assert blocked_steps > 10_000  # the layouts do put wafers in the beam's way
