@@ -102,10 +102,36 @@ def _bowed_hull(wafer):
 
 
 def _norms(vectors):
-    """The Euclidean norms along the last axis: ``np.linalg.norm(vectors, axis=-1)``'s own
-    arithmetic (the squares summed by ``add.reduce``, then the root), the same floats, without
-    its checks (the nearest pair is looked for at every pose of a search)."""
-    return np.sqrt(np.add.reduce(vectors * vectors, axis=-1))
+    """The Euclidean norms of vectors given component by component along the first axis
+    (x, y, z): ``np.linalg.norm``'s own arithmetic (the squares summed by ``add.reduce``, x
+    plus y, then plus z, then the root), the same floats, without its checks (the nearest pair
+    is looked for at every pose of a search). Components first, the sum is two additions of
+    whole arrays: along a short last axis, numpy's reduction took a tenth of a slow scan's
+    clearance for the same floats."""
+    return np.sqrt(np.add.reduce(vectors * vectors, axis=0))
+
+
+def _in_gap_order(gaps, bound):
+    """(index, gap) of the flat ``gaps`` in the order of their stable argsort (equal gaps by
+    index, NaN last), for a loop that stops at the first gap no less than ``bound()``, a bound
+    that never grows. The least gap first (argmin's first, the sort's first but for a NaN);
+    then, sorted the same way, only the gaps below ``bound()`` as read after the first: the
+    loop stops at any other, as the bound only falls. So the loop weighs the same pairs as
+    with the whole sort, which took ~5 % of a slow scan's clearance to weigh ~6 pairs of ~540.
+    With a NaN gap, the whole sort."""
+    if not len(gaps):
+        return
+    first = int(gaps.argmin())
+    least = float(gaps[first])
+    if least != least:  # NaN: argmin's answer wherever a gap is NaN
+        below = np.ones(len(gaps), dtype=bool)
+    else:
+        yield first, least
+        below = ~(gaps >= bound())  # not <: a NaN bound stops nothing
+        below[first] = False
+    indices = below.nonzero()[0]
+    order = indices[gaps[indices].argsort(kind="stable")]
+    yield from zip(order.tolist(), gaps[order].tolist())
 
 
 def _bound_radius(geometry):
@@ -394,6 +420,9 @@ class Obstacles:
         self.radii = np.array([item[5] for item in self.items])
         self.lows = np.array([item[6] for item in self.items]).reshape(-1, 3)
         self.highs = np.array([item[7] for item in self.items]).reshape(-1, 3)
+        # For _nearest: the same, components first (``_norms``).
+        self.by_axis = tuple(np.ascontiguousarray(a.T) for a in (self.centres, self.lows,
+                                                                 self.highs))
         # For within_z: the boxes by their bottoms, and the tallest box's height.
         self._by_bottom = np.argsort(self.lows[:, 2], kind="stable")
         self._bottoms = self.lows[self._by_bottom, 2]
@@ -465,17 +494,21 @@ class _Body:
             return known[1]
         return _bound_radius(geometry)  # a swept shape, made for one question
 
-    def _nearest(self, parts):
+    def _nearest(self, parts, centres=None, radii=None):
         """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
         pairs in the order of their bounding spheres' distance, until that is no less than the
         least distance found. First among the obstacles within NEAR_BAND mm of the parts
-        along Z, which is the answer when it is nearer than that; else among them all."""
+        along Z, which is the answer when it is nearer than that; else among them all.
+        ``centres`` ((n, 3): the parts' translations) and ``radii`` (their shapes' bounding
+        radii), when the caller has them as arrays already; made from the parts when None."""
         best = (math.inf, "", "", None, None)
         if not self.obstacles.items or not parts:
             return best
         obstacles = self.obstacles
-        centres = np.array([part[3] for part in parts])
-        radii = np.array([self._radius(part[1]) for part in parts])
+        if centres is None:
+            centres = np.array([part[3] for part in parts])
+        if radii is None:
+            radii = np.array([self._radius(part[1]) for part in parts])
         if len(obstacles.items) > NEAR_BAND_FROM:
             # A stocker's 10,000 wafers: the parts meet a few of them at a time, and every pair
             # weighed at every pose made a scan's clearance quadratic in the wafers (254 s of
@@ -493,29 +526,28 @@ class _Body:
     def _nearest_among(self, parts, centres, radii, among, best):
         """``_nearest`` over the obstacles ``among`` (indices, ascending; None: all)."""
         obstacles = self.obstacles
-        o_centres, o_radii = obstacles.centres, obstacles.radii
-        lows, highs = obstacles.lows, obstacles.highs
+        (o_centres, lows, highs), o_radii = obstacles.by_axis, obstacles.radii
         if among is not None:
             if not len(among):
                 return best
-            o_centres, o_radii, lows, highs = (o_centres[among], o_radii[among], lows[among],
-                                               highs[among])
-        gaps = (_norms(centres[:, None, :] - o_centres[None, :, :])
-                - radii[:, None] - o_radii[None, :])
+            o_centres, o_radii, lows, highs = (o_centres[:, among], o_radii[among],
+                                               lows[:, among], highs[:, among])
+        # Components first (``_norms``): [axis, part, obstacle].
+        o_centres, lows, highs = o_centres[:, None, :], lows[:, None, :], highs[:, None, :]
+        ends = centres.T[:, :, None]
+        gaps = _norms(ends - o_centres) - radii[:, None] - o_radii[None, :]
         if obstacles.carrier_count:
             # A wall or a floor is long and thin: its box bounds it far better than a sphere.
-            outside = np.maximum(np.maximum(lows[None, :, :] - centres[:, None, :],
-                                            centres[:, None, :] - highs[None, :, :]),
-                                 0.0)
+            outside = np.maximum(np.maximum(lows - ends, ends - highs), 0.0)
             gaps = np.maximum(gaps, _norms(outside) - radii[:, None])
         count = gaps.shape[1]
         transforms = {}
         # Stable: pairs whose bounds tie are weighed in the order of the obstacles, the same
         # order whichever obstacles are among them.
-        for flat in np.argsort(gaps, axis=None, kind="stable"):
-            i, column = divmod(int(flat), count)
-            if gaps[i, column] >= best[0]:
+        for flat, gap in _in_gap_order(gaps.ravel(), lambda: best[0]):
+            if gap >= best[0]:
                 break
+            i, column = divmod(flat, count)
             index = column if among is None else int(among[column])
             name, geometry, rotation, translation, _ = parts[i]
             if i not in transforms:
@@ -526,8 +558,14 @@ class _Body:
                 best = (d, name, obstacle, slot, np.array(self.result.getNearestPoint1()))
         return best
 
+    def _posed(self, motion, s):
+        """``_nearest``'s arguments at the motion's s: the parts (``parts_at``), and their
+        centres and radii when the body has them as arrays already (None: made from the
+        parts)."""
+        return self.parts_at(motion, s), None, None
+
     def nearest(self, motion, s):
-        d, part, obstacle, slot, _ = self._nearest(self.parts_at(motion, s))
+        d, part, obstacle, slot, _ = self._nearest(*self._posed(motion, s))
         return d, part, obstacle, slot
 
     def swept(self, motion):
@@ -582,6 +620,7 @@ class RobotBody(_Body):
             urdf = spec.urdf
         self.robot, self.geometry, self.geometry_data, self.parts = collision_model(urdf)
         self._holds([shape for _, shape, _ in self.parts])
+        self._part_radii = np.array([self._radius(shape) for _, shape, _ in self.parts])
         if base is None:
             base = (tuple(spec.base), spec.base_yaw) if spec is not None \
                 else ((0.0, 0.0, 0.0), 0.0)
@@ -634,19 +673,33 @@ class RobotBody(_Body):
         joints[self.wrist] = joints[self.wrist] + s
         return joints
 
-    def placements(self, joints):
-        """[(R, t mm)] in the world of each collision part at the joint values."""
+    def _placed(self, joints):
+        """(rotations (n, 3, 3), translations (n, 3) mm) in the world of the collision parts
+        at the joint values: each part's ``turn @ R`` and ``turn @ (t * MM) + offset``, all
+        parts in one stacked product. numpy's matmul makes each stacked product with the BLAS
+        call it makes for one part alone (the same floats), and the parts one by one cost
+        twice as much (a pose of every search)."""
         model, data = self.robot.model, self.robot.data
         pin.forwardKinematics(model, data, self.robot._to_q(joints))
         pin.updateGeometryPlacements(model, data, self.geometry, self.geometry_data)
-        return [(self.turn @ np.asarray(m.rotation),
-                 self.turn @ (np.asarray(m.translation) * MM) + self.offset)
-                for m in self.geometry_data.oMg]
+        placed = self.geometry_data.oMg.tolist()  # a tenth of list()'s time
+        rotations = np.array([m.rotation for m in placed]).reshape(-1, 3, 3)
+        translations = np.array([m.translation for m in placed]).reshape(-1, 3, 1) * MM
+        return self.turn @ rotations, (self.turn @ translations)[:, :, 0] + self.offset
+
+    def placements(self, joints):
+        """[(R, t mm)] in the world of each collision part at the joint values."""
+        return list(zip(*self._placed(joints)))
+
+    def _posed(self, motion, s):
+        rotations, translations = self._placed(self.motion_joints(motion, s))
+        parts = [(name, shape, rotation, translation, moves)
+                 for (name, shape, _), rotation, translation, moves
+                 in zip(self.parts, rotations, translations, self.moves)]
+        return parts, translations, self._part_radii
 
     def parts_at(self, motion, s):
-        return [(name, shape, rotation, translation, moves)
-                for (name, shape, _), (rotation, translation), moves
-                in zip(self.parts, self.placements(self.motion_joints(motion, s)), self.moves)]
+        return self._posed(motion, s)[0]
 
     def _reach(self, joints, joint):
         """The farthest any part downstream of ``joint`` lies from its (vertical) axis, mm."""
@@ -675,11 +728,12 @@ class RobotBody(_Body):
 
     def motion_joints(self, motion, s):
         key = (motion, s)
-        if key not in self._joints_at:
+        joints = self._joints_at.get(key)  # one hash of the motion, not two
+        if joints is None:
             if len(self._joints_at) > 4096:
                 self._joints_at.clear()
-            self._joints_at[key] = self._motion_joints(motion, s)
-        return self._joints_at[key]
+            joints = self._joints_at[key] = self._motion_joints(motion, s)
+        return joints
 
     def path(self, motion, s0, s1):
         """How far any point moves between s0 and s1: the lift's travel; or each turning

@@ -54,10 +54,15 @@ class WaferRobot:
                            for i, name in enumerate(self.model.names) if i > 0}
         self._frames = {f.name: i for i, f in enumerate(self.model.frames)}
         self.lift_joint = "lift"
+        # _to_q's constants, looked up once: it makes the configuration of every pose a
+        # clearance search weighs (each lookup through Pinocchio's bindings costs more than
+        # the conversion itself).
+        self._neutral = pin.neutral(self.model)
+        self._q_slots = tuple((name, self.model.joints[i + 1].idx_q, self._prismatic[name])
+                              for i, name in enumerate(self.joint_names))
         self.limits = {}
-        for i, name in enumerate(self.joint_names):
-            q = self.model.joints[i + 1].idx_q
-            scale = MM if self._prismatic[name] else math.degrees(1.0)
+        for name, q, prismatic in self._q_slots:
+            scale = MM if prismatic else math.degrees(1.0)
             self.limits[name] = (float(self.model.lowerPositionLimit[q]) * scale,
                                  float(self.model.upperPositionLimit[q]) * scale)
         self._visuals = self._read_visuals()
@@ -65,11 +70,10 @@ class WaferRobot:
     # --- the one unit boundary ------------------------------------------------------------
 
     def _to_q(self, joints):
-        q = pin.neutral(self.model)
-        for i, name in enumerate(self.joint_names):
+        q = self._neutral.copy()
+        for name, index, prismatic in self._q_slots:
             value = float(joints.get(name, 0.0))
-            q[self.model.joints[i + 1].idx_q] = value / MM if self._prismatic[name] \
-                else math.radians(value)
+            q[index] = value / MM if prismatic else math.radians(value)
         return q
 
     @staticmethod
