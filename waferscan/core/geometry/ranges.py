@@ -275,7 +275,7 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
         # lam alone (rim_span over arrays).
         level = flat & (en == 0.0) & (an != 0.0) & (gx == 0.0) & (gy == 0.0) & (gz == 0.0)
         if level.any():
-            rows = np.flatnonzero(level)
+            rows = _rows(level)
             pq = _dot(p, q)[rows]
             qqr = qq[rows]
             c = _dot(p, p)[rows] - r2[rows]
@@ -295,7 +295,7 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
         # A level bowed wafer lifted along its normal (bow.bowed_translation_ranges).
         bowed = ~flat & (an != 0.0) & (gg <= 1e-24)
         if bowed.any():
-            rows = np.flatnonzero(bowed)
+            rows = _rows(bowed)
             lo[rows], hi[rows], hit[rows] = bowed_translation_ranges(
                 wn[rows], en[rows], an[rows], tuple(x[rows] for x in p),
                 tuple(x[rows] for x in q), radius[rows], t[rows], bow[rows], length, tol)
@@ -305,48 +305,59 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
         # [beam_tilt]): the general region's corners, worked out without its zero terms.
         slanted = (flat & (en != 0.0) & (an != 0.0) & (qq != 0.0)
                    & (gx == 0.0) & (gy == 0.0) & (gz == 0.0))
+        # Worked out over every row and kept where slanted: in a sweep they are nearly all the
+        # rows, and the other rows' answers (nan, inf, whatever) cost less than gathering a
+        # dozen columns of the slanted ones.
         if slanted.any():
-            rows = np.flatnonzero(slanted)
-            edge, low, high, empty = _slanted_extremes(
-                wn[rows], en[rows], an[rows], tuple(x[rows] for x in p),
-                tuple(x[rows] for x in q), r[rows], r2[rows], t[rows], length, tol)
-            lo[rows], hi[rows] = low, high
-            hit[rows] = (low <= high) & ~empty
-            covered[rows] = ~edge
+            edge, low, high, empty = _slanted_extremes(wn, en, an, p, q, r, r2, t, length, tol)
+            np.copyto(lo, low, where=slanted)
+            np.copyto(hi, high, where=slanted)
+            np.copyto(hit, (low <= high) & ~empty, where=slanted)
+            np.copyto(covered, ~edge, where=slanted)
 
         # The general region (_boundary_lines, _corner_candidates, _feasible_range), but for its
         # degenerate cases (beam and axis both along the faces, or both without a part across
         # the normal), which the scalar function takes.
         general = (flat & ~level & ~slanted & ~((en == 0.0) & (an == 0.0))
                    & ~((qq == 0.0) & (gg == 0.0)))
-        cross = ((qy * gz - qz * gy) ** 2 + (qz * gx - qx * gz) ** 2
-                 + (qx * gy - qy * gx) ** 2)
-        # Beam and axis across the normal along one line: the rim is two parallel lines
-        # m = lam*qu + tau*gu between two roots; elsewhere a conic.
-        parallel = cross <= 1e-20 * qq * gg
-        for rows, rim_lines in ((np.flatnonzero(general & parallel), True),
-                                (np.flatnonzero(general & ~parallel), False)):
-            if not len(rows):
-                continue
-            pr, qr, gr = (tuple(x[rows] for x in v) for v in (p, q, g))
-            rim = None
-            empty = np.zeros(len(rows), dtype=bool)
-            if rim_lines:
-                qqr, ggr = qq[rows], gg[rows]
-                big = tuple(np.where(qqr >= ggr, qi, gi) for qi, gi in zip(qr, gr))
-                norm = np.sqrt(_dot(big, big))
-                unit = tuple(b / norm for b in big)
-                qu, gu, pu = _dot(qr, unit), _dot(gr, unit), _dot(pr, unit)
-                disc = pu * pu - (_dot(pr, pr) - r2[rows])
-                empty = disc < 0.0
-                rim = (qu, gu, pu, np.sqrt(np.maximum(disc, 0.0)))
-            edge, low, high = _extremes(wn[rows], en[rows], an[rows], pr, qr, gr, r[rows],
-                                        r2[rows], t[rows], length, tol, rim)
-            lo[rows], hi[rows] = low, high
-            hit[rows] = (low <= high) & ~empty
-            covered[rows] = ~edge
+        if general.any():  # (none in a sweep of level wafers)
+            cross = ((qy * gz - qz * gy) ** 2 + (qz * gx - qx * gz) ** 2
+                     + (qx * gy - qy * gx) ** 2)
+            # Beam and axis across the normal along one line: the rim is two parallel lines
+            # m = lam*qu + tau*gu between two roots; elsewhere a conic.
+            parallel = cross <= 1e-20 * qq * gg
+            for rows, rim_lines in ((np.flatnonzero(general & parallel), True),
+                                    (np.flatnonzero(general & ~parallel), False)):
+                if not len(rows):
+                    continue
+                pr, qr, gr = (tuple(x[rows] for x in v) for v in (p, q, g))
+                rim = None
+                empty = np.zeros(len(rows), dtype=bool)
+                if rim_lines:
+                    qqr, ggr = qq[rows], gg[rows]
+                    big = tuple(np.where(qqr >= ggr, qi, gi) for qi, gi in zip(qr, gr))
+                    norm = np.sqrt(_dot(big, big))
+                    unit = tuple(b / norm for b in big)
+                    qu, gu, pu = _dot(qr, unit), _dot(gr, unit), _dot(pr, unit)
+                    disc = pu * pu - (_dot(pr, pr) - r2[rows])
+                    empty = disc < 0.0
+                    rim = (qu, gu, pu, np.sqrt(np.maximum(disc, 0.0)))
+                edge, low, high = _extremes(wn[rows], en[rows], an[rows], pr, qr, gr, r[rows],
+                                            r2[rows], t[rows], length, tol, rim)
+                lo[rows], hi[rows] = low, high
+                hit[rows] = (low <= high) & ~empty
+                covered[rows] = ~edge
     hit &= covered
     return lo, hi, hit, covered
+
+
+def _rows(mask):
+    """The rows where ``mask`` holds, for indexing: all of them as a slice (views, not
+    copies, of the columns: a sweep's wafers are commonly all of one kind)."""
+    import numpy as np
+
+    rows = np.flatnonzero(mask)
+    return slice(None) if len(rows) == len(mask) else rows
 
 
 def _slanted_extremes(wn, en, an, p, q, r, r2, t, length, tol):
@@ -372,32 +383,45 @@ def _slanted_extremes(wn, en, an, p, q, r, r2, t, length, tol):
     limit = 1e-14 * hyp
     edge = np.abs(np.abs(an) - limit) <= EDGE_OF_PARALLEL * limit
     valid = ~((hyp == 0.0) | (np.abs(an) <= limit))
-    candidates = [((end * an) / an, (face - en * end) / an, valid)
-                  for end in (-tol, length + tol) for face in faces]
+    # Each line across the faces gives both faces one lam: what depends on lam alone (on the
+    # beam, within the rim, wn + lam*en) is worked out once a line (_reach), not once a corner.
+    lam_range = (-tol - SLACK, length + tol + SLACK)
+    rim_limit = r2 + 2.0 * r * SLACK
+    ends = [(end, _reach((end * an) / an, valid, wn, en, p, q, rim_limit, lam_range))
+            for end in (-tol, length + tol)]
+    candidates = [((face - en * end) / an, reach) for end, reach in ends for face in faces]
     # The faces against the rim's lines: det = en*0 - qu*an = -(qu*an).
     det = -(qu * an)
     limit = 1e-14 * (hyp * np.abs(qu))
     edge |= np.abs(np.abs(det) - limit) <= EDGE_OF_PARALLEL * limit
     valid = ~((hyp * np.abs(qu) == 0.0) | (np.abs(det) <= limit))
-    candidates += [((rim * an) / (qu * an), (en * rim - qu * face) / det, valid)
-                   for face in faces for rim in (-pu - root, -pu + root)]
-    # _feasible_range, with x = p + lam*q (tau*g is a zero)
+    rims = [(rim, _reach((rim * an) / (qu * an), valid, wn, en, p, q, rim_limit, lam_range))
+            for rim in (-pu - root, -pu + root)]
+    candidates += [((en * rim - qu * face) / det, reach) for face in faces for rim, reach in rims]
+    # _feasible_range, with x = p + lam*q (tau*g is a zero); lo and hi taken in the same
+    # order of candidates, in place.
     lo = np.full(wn.shape, np.inf)
     hi = np.full(wn.shape, -np.inf)
-    lam_lo, lam_hi = -tol - SLACK, length + tol + SLACK
     h_lo, h_hi = -tol - SLACK, t + tol + SLACK
-    rim_limit = r2 + 2.0 * r * SLACK
+    for tau, (ok, base) in candidates:
+        h = base + tau * an
+        ok = ok & (h_lo <= h) & (h <= h_hi)
+        np.minimum(lo, tau, out=lo, where=ok)
+        np.maximum(hi, tau, out=hi, where=ok)
+    return edge, lo, hi, empty
+
+
+def _reach(lam, valid, wn, en, p, q, rim_limit, lam_range):
+    """(ok, base) for ``_slanted_extremes``' corners on one line of lam: ok where the line's
+    corners are ``valid``, lam lies in ``lam_range`` (the beam, with ``_feasible_range``'s
+    slack) and p + lam*q within the rim (|x|^2 <= rim_limit); base = wn + lam*en, the first sum
+    of a corner's height over the bottom face."""
     px, py, pz = p
     qx, qy, qz = q
-    for lam, tau, valid in candidates:
-        ok = valid & (lam_lo <= lam) & (lam <= lam_hi)
-        h = wn + lam * en + tau * an
-        ok &= (h_lo <= h) & (h <= h_hi)
-        x, y, z = px + lam * qx, py + lam * qy, pz + lam * qz
-        ok &= ~(x * x + y * y + z * z > rim_limit)
-        lo = np.where(ok, np.minimum(lo, tau), lo)
-        hi = np.where(ok, np.maximum(hi, tau), hi)
-    return edge, lo, hi, empty
+    x, y, z = px + lam * qx, py + lam * qy, pz + lam * qz
+    ok = valid & (lam_range[0] <= lam) & (lam <= lam_range[1])
+    ok &= ~(x * x + y * y + z * z > rim_limit)
+    return ok, wn + lam * en
 
 
 def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):

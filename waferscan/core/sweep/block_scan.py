@@ -227,10 +227,12 @@ def scan_block(base, draws):
         lag = (scan.scan_speed * draws.sensor_response)[:, None] if scan.mode != SLOW else 0.0
         bottom, top = latch_runs(bottom, top, scan, lag)
     # Compact each layout's valid runs to the left, in ascending order (they already are).
-    order = np.argsort(~run_ok, axis=1, kind="stable")
-    bottom = np.take_along_axis(bottom, order, axis=1)
-    top = np.take_along_axis(top, order, axis=1)
-    run_ok = np.take_along_axis(run_ok, order, axis=1)
+    # _merge_runs leaves them so; only a slow scan's window may have dropped some.
+    if not np.all(run_ok[:, :-1] | ~run_ok[:, 1:]):
+        order = np.argsort(~run_ok, axis=1, kind="stable")
+        bottom = np.take_along_axis(bottom, order, axis=1)
+        top = np.take_along_axis(top, order, axis=1)
+        run_ok = np.take_along_axis(run_ok, order, axis=1)
     states, first_run = map_runs(plan, bottom, top, run_ok)
     flagged = protruding_mask(base.carrier, plan, exists, draws.center.reshape(m, W, 3),
                               draws.normal.reshape(m, W, 3), draws.thickness.reshape(m, W),
@@ -264,18 +266,21 @@ def _merge_runs(first, last):
     order = np.argsort(first, axis=1, kind="stable")
     f = np.take_along_axis(first, order, axis=1)
     la = np.take_along_axis(last, order, axis=1)
+    # The intervals that exist sort first (the others' first is int max, their last -1), so
+    # the running maximum of the last steps is, at each of them, the reach of those before it
+    # and itself: a run starts where an interval begins past the reach before it plus one, and
+    # ends (at its highest step, every interval's last >= its first) where the next one starts.
     present = la >= 0
-    reach = np.maximum.accumulate(np.where(present, la, -2), axis=1)
-    before = np.concatenate([np.full((m, 1), -2, dtype=np.int64), reach[:, :-1]], axis=1)
-    new = present & (f > before + 1)
-    run_id = np.cumsum(new, axis=1) - 1
+    reach = np.maximum.accumulate(la, axis=1)
+    new = present.copy()
+    new[:, 0] &= f[:, 0] > -1
+    new[:, 1:] &= f[:, 1:] > reach[:, :-1] + 1
+    end = present.copy()
+    end[:, :-1] &= new[:, 1:] | ~present[:, 1:]
+    # Runs j = 0, 1, ... of each layout, in the order their starts and ends come (row-major).
+    ok = np.arange(W) < np.count_nonzero(new, axis=1)[:, None]
     lo = np.zeros((m, W), dtype=np.int64)
     hi = np.full((m, W), -1, dtype=np.int64)
-    ok = np.zeros((m, W), dtype=bool)
-    rows = np.broadcast_to(np.arange(m)[:, None], (m, W))
-    lo[rows[new], run_id[new]] = f[new]
-    ok[rows[new], run_id[new]] = True
-    flat = (rows * W + np.maximum(run_id, 0))[present]
-    hi_flat = hi.reshape(-1)
-    np.maximum.at(hi_flat, flat, la[present])
+    lo[ok] = f[new]
+    hi[ok] = reach[end]
     return lo, hi, ok

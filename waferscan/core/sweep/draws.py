@@ -218,10 +218,14 @@ def draw_block(base, tolerances, seed, block, count):
     exists = np.zeros((m, S, 2), dtype=bool)
     exists[..., 0] = (kind != EMPTY) & (kind != -1)
     exists[..., 1] = kind == DOUBLE
+    # The few wafers of a state are changed in place (the same floats as np.where's over the
+    # whole block, without its arrays of every wafer).
+    cross = kind == CROSS
     z = np.broadcast_to(seat[None, :, None], (m, S, 2)).copy()
-    z = np.where((kind == POSITION_ERROR)[..., None], z + MISPLACED_RISE, z)
-    z = np.where((kind == CROSS)[..., None], z + 0.5 * carrier.pitch, z)
-    thickness = np.where((kind == THIN)[..., None], THIN_FACTOR * t, t)
+    z[kind == POSITION_ERROR] += MISPLACED_RISE
+    z[cross] += 0.5 * carrier.pitch
+    thickness = t.copy()
+    thickness[kind == THIN] *= THIN_FACTOR
     shift = np.where((kind == PROTRUDING)[..., None], PROTRUDING_SHIFT, 0.0) + \
         draws.get("protrusion", zeros)
     x = cx + shift * fx
@@ -236,10 +240,11 @@ def draw_block(base, tolerances, seed, block, count):
     cn = 1.0 / math.sqrt(1.0 + slope * slope)
     lx, ly = carrier.lateral
     cross_normal = np.array([-sn * lx, -sn * ly, cn])
-    normal = np.where((kind == CROSS)[..., None, None], cross_normal, normal)
+    normal[cross] = cross_normal
     if "tilt" in draws:
         normal = _tilted(normal, draws["tilt"], draws["tilt_axis"])
-    center = np.stack([x, y, z], axis=-1)
+    center = np.empty((m, S, 2, 3))  # np.stack's, without its (m, S, 2, 1) temporaries
+    center[..., 0], center[..., 1], center[..., 2] = x, y, z
     # A double's second wafer lies on the first, whatever its seat, tilt and protrusion: its
     # bottom face on the first's top face (the scenario's seat + t for a level pair).
     center[..., 1, :] = center[..., 0, :] + thickness[..., 0, None] * normal[..., 0, :]
