@@ -69,15 +69,28 @@ def screen(view, name):
     return image
 
 
+def _pixels(image):
+    import numpy as np
+
+    bits = image.constBits()
+    data = np.frombuffer(bytes(bits), dtype=np.uint32)
+    return data.reshape(image.height(), image.bytesPerLine() // 4)[:, :image.width()]
+
+
 def differing_pixels(a, b):
     import numpy as np
 
-    def pixels(image):
-        bits = image.constBits()
-        data = np.frombuffer(bytes(bits), dtype=np.uint32)
-        return data.reshape(image.height(), image.bytesPerLine() // 4)[:, :image.width()]
+    return int(np.count_nonzero(_pixels(a) != _pixels(b)))
 
-    return int(np.count_nonzero(pixels(a) != pixels(b)))
+
+def differing_box(a, b):
+    """[left, top, right, bottom] of the pixels that differ (None: none do)."""
+    import numpy as np
+
+    rows, columns = np.nonzero(_pixels(a) != _pixels(b))
+    if not len(rows):
+        return None
+    return [int(columns.min()), int(rows.min()), int(columns.max()), int(rows.max())]
 
 
 def begin():
@@ -86,6 +99,11 @@ def begin():
     from waferscan.cad.document_scan import scan_document
     from waferscan.gui.playback import play_scan
 
+    # The pictures compared must not depend on where the pointer rests: with it over the 3D view,
+    # FreeCAD highlights what lies under it once the camera moves there (when, depends on the
+    # machine's load), so it goes to the screen's corner and preselection is off.
+    QtGui.QCursor.setPos(0, 0)
+    App.ParamGet("User parameter:BaseApp/Preferences/View").SetBool("EnablePreselection", False)
     doc = App.openDocument(os.environ["WAFERSCAN_GUI_LAYOUT"])
     far = App.Vector(-2000, 0, 0)
     box = Part.makeBox(100, 100, 100, far)
@@ -138,6 +156,7 @@ def paused():
     again.restore()
     close_both = screen(view, "close-up-both-sides.png")
     result["differ_close_up"] = differing_pixels(close_culled, close_both)
+    result["differ_close_up_box"] = differing_box(close_culled, close_both)
     wafer = doc.getObject(result["wafers"][-1])
     wafer.ViewObject.Visibility = False
     one_less = screen(view, "one-wafer-hidden.png")

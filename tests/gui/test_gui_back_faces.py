@@ -10,6 +10,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 PROBE = Path(__file__).resolve().with_name("back_faces_probe.py")
 PAPER = REPO / "resources" / "examples" / "paper.toml"
+CLOSE_UP_SPECK = 32  # pixels
 
 
 def paper_layout(folder):
@@ -37,8 +38,12 @@ def test_back_faces_are_culled_for_closed_opaque_solids_only(run_gui_probe, tmp_
     assert not culled & {"LP1", "OpenShell", "SeeThrough", "InsideOut", "Body", "PDBox"}
     # The same picture, pixel for pixel; the comparison tells a hidden wafer.
     assert gui["differ_culled"] == 0
-    assert gui["differ_close_up"] == 0  # the carrier and wafers filling the view
-    assert gui["differ_hidden"] > 100
+    # Close up, the carrier and wafers filling the view: the same picture but for a speck.
+    # In fresh Debian roots (`make ci-fresh`, both suites side by side) 12 and 13 of its ~820,000
+    # pixels differed, never on the machine that ran the rehearsals, with any pause frame,
+    # pointer or load tried; a hidden wafer changes ~37,000.
+    assert gui["differ_close_up"] <= CLOSE_UP_SPECK, gui["differ_close_up_box"]
+    assert gui["differ_hidden"] > 100 * CLOSE_UP_SPECK
     # Restored: both sides drawn again, FreeCAD's own hints on every object.
     assert gui["culled_restored"] == []
     assert all(gui["hints_kept"].values()), gui["hints_kept"]
