@@ -559,9 +559,10 @@ class _Body:
         return best
 
     def _posed(self, motion, s):
-        """``_nearest``'s arguments at the motion's s: the parts (``parts_at``), and their
+        """``_nearest``'s arguments at the motion's s: the parts (``parts_at``'s), and their
         centres and radii when the body has them as arrays already (None: made from the
-        parts)."""
+        parts). ``nearest`` asks this, not ``parts_at``: a body that places its parts
+        otherwise overrides both."""
         return self.parts_at(motion, s), None, None
 
     def nearest(self, motion, s):

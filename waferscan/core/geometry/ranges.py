@@ -305,15 +305,21 @@ def translation_ranges(emitter, direction, axis, center, normal, radius, thickne
         # [beam_tilt]): the general region's corners, worked out without its zero terms.
         slanted = (flat & (en != 0.0) & (an != 0.0) & (qq != 0.0)
                    & (gx == 0.0) & (gy == 0.0) & (gz == 0.0))
-        # Worked out over every row and kept where slanted: in a sweep they are nearly all the
-        # rows, and the other rows' answers (nan, inf, whatever) cost less than gathering a
-        # dozen columns of the slanted ones.
-        if slanted.any():
-            edge, low, high, empty = _slanted_extremes(wn, en, an, p, q, r, r2, t, length, tol)
-            np.copyto(lo, low, where=slanted)
-            np.copyto(hi, high, where=slanted)
-            np.copyto(hit, (low <= high) & ~empty, where=slanted)
-            np.copyto(covered, ~edge, where=slanted)
+        # Where most rows are slanted (a sweep's, nearly all), worked out over every row and
+        # kept where slanted: the other rows' answers (nan, inf, whatever) cost less than
+        # gathering a dozen columns of the slanted ones. A few are gathered.
+        count = np.count_nonzero(slanted)
+        if count:
+            rows = slice(None) if 4 * count >= n else np.flatnonzero(slanted)
+            edge, low, high, empty = _slanted_extremes(
+                wn[rows], en[rows], an[rows], tuple(x[rows] for x in p),
+                tuple(x[rows] for x in q), r[rows], r2[rows], t[rows], length, tol)
+            for out, value in ((lo, low), (hi, high), (hit, (low <= high) & ~empty),
+                               (covered, ~edge)):
+                if isinstance(rows, slice):
+                    np.copyto(out, value, where=slanted)
+                else:
+                    out[rows] = value
 
         # The general region (_boundary_lines, _corner_candidates, _feasible_range), but for its
         # degenerate cases (beam and axis both along the faces, or both without a part across
