@@ -393,35 +393,44 @@ def protruding_mask(carrier, plan, exists, center, normal, thickness, bow):
     """``protruding_slots`` over arrays (numpy), for m layouts of W wafers each: ``exists``
     (m, W), ``center`` and ``normal`` (m, W, 3), ``thickness`` and ``bow`` (m, W). Returns an
     (m, S) mask, True where the load port's protrusion check flags the slot; the same slots as
-    ``protruding_slots`` layout by layout."""
+    ``protruding_slots`` layout by layout (``protruding_rows`` over the wafers that exist)."""
     import numpy as np
 
-    m = exists.shape[0]
+    li, wi = np.nonzero(exists)
+    return protruding_rows(carrier, plan, exists.shape[0], li, center[li, wi], normal[li, wi],
+                           thickness[li, wi], bow[li, wi])
+
+
+def protruding_rows(carrier, plan, m, layout, center, normal, thickness, bow):
+    """``protruding_mask`` of m layouts from their wafers alone (a sweep's scan has them
+    gathered already): ``layout`` (n,) the layout of each, ``center`` and ``normal`` (n, 3),
+    ``thickness`` and ``bow`` (n,). Each wafer's sums are its own, so the same floats as over
+    every place of every layout; the places that hold no wafer are not worked out at all."""
+    import numpy as np
+
     S = plan.slot_count
     out = np.zeros((m, S), dtype=bool)
     c, n, t = center, normal, thickness
     h = t / 2.0
-    mx, my, mz = c[..., 0] + h * n[..., 0], c[..., 1] + h * n[..., 1], c[..., 2] + h * n[..., 2]
+    mx, my, mz = c[:, 0] + h * n[:, 0], c[:, 1] + h * n[:, 1], c[:, 2] + h * n[:, 2]
     r = 0.5 * carrier.wafer_diameter
     z_lo = carrier.seat_z(1) - carrier.pitch
     z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
-    inside = exists & (np.hypot(mx - carrier.center[0], my - carrier.center[1]) < r) \
+    inside = (np.hypot(mx - carrier.center[0], my - carrier.center[1]) < r) \
         & (z_lo <= mz) & (mz <= z_hi)
     fx, fy = carrier.front
-    along = n[..., 0] * fx + n[..., 1] * fy
+    along = n[:, 0] * fx + n[:, 1] * fy
     # protrusion's sums: the solid's frontmost point, from the bottom centre
-    reach = (c[..., 0] - carrier.center[0]) * fx + (c[..., 1] - carrier.center[1]) * fy
+    reach = (c[:, 0] - carrier.center[0]) * fx + (c[:, 1] - carrier.center[1]) * fy
     reach = reach + front_reaches(r, t, bow, along)
     flagged = inside & (reach - r > plan.protrusion_limit)
-    if not flagged.any():
-        return out
-    bows = np.abs(bow)
-    for i, w in zip(*np.nonzero(flagged)):
+    for j in np.flatnonzero(flagged):
         # protrusions_by_slot: the nearest slot to its bottom and every seat its Z extent spans
-        nz = float(n[i, w, 2])
-        half = r * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * float(t[i, w])
-                                                          + float(bows[i, w])) * abs(nz)
-        z0, z1 = float(mz[i, w]) - half, float(mz[i, w]) + half
+        i = layout[j]
+        nz = float(n[j, 2])
+        half = r * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * float(t[j])
+                                                          + abs(float(bow[j]))) * abs(nz)
+        z0, z1 = float(mz[j]) - half, float(mz[j]) + half
         out[i, plan.nearest_slot(z0) - 1] = True
         for slot in range(1, S + 1):
             if z0 <= plan.seat_z(slot) <= z1:

@@ -14,7 +14,7 @@ from ..geometry.beam import TOUCH_TOLERANCE
 from ..geometry.ranges import translation_ranges
 from ..mapping import PROTRUDING, map_runs, map_slots
 from ..model import SLOW, Beam, Wafer
-from ..scan.scan_result import latch_runs, protruding_mask
+from ..scan.scan_result import latch_runs, protruding_rows
 from .draws import sample_layout
 
 # The wafers of a block whose beam ranges are computed at once (scan_block; the same results
@@ -166,17 +166,19 @@ def scan_block(base, draws):
         return scalar_block(base, draws)
     m, S = draws.truth.shape
     W = 2 * S
-    exists = draws.exists.reshape(m, W)
-    li, wi = np.nonzero(exists)
-    center = draws.center.reshape(m, W, 3)[li, wi]
-    normal = draws.normal.reshape(m, W, 3)[li, wi]
+    # The wafers that exist, layout li, place wi, gathered by their flat index (np.take of
+    # rows: cheaper than indexing by the pair (li, wi)).
+    flat = np.flatnonzero(draws.exists)
+    li, wi = np.divmod(flat, W)
+    center = draws.center.reshape(-1, 3).take(flat, axis=0)
+    normal = draws.normal.reshape(-1, 3).take(flat, axis=0)
     radius = np.full(len(li), 0.5 * base.carrier.wafer_diameter)
-    thickness = draws.thickness.reshape(m, W)[li, wi]
-    bow = draws.bow.reshape(m, W)[li, wi]
+    thickness = draws.thickness.reshape(-1).take(flat)
+    bow = draws.bow.reshape(-1).take(flat)
     # In chunks of wafers: translation_ranges makes dozens of temporaries the length of its
     # arrays, and a block's (~12,000 wafers) spill from the core's cache; a chunk's stay in it
     # (SWEEP_CHUNK).
-    direction = draws.direction[li]
+    direction = draws.direction.take(li, axis=0)
     chunks = [slice(a, a + SWEEP_CHUNK) for a in range(0, len(li), SWEEP_CHUNK)] or [slice(0)]
     parts = [translation_ranges(layout.beam.emitter, direction[c], layout.lift_axis, center[c],
                                 normal[c], radius[c], thickness[c], layout.beam.length,
@@ -206,11 +208,19 @@ def scan_block(base, draws):
         steps = scalar_steps(base, draws, int(li[j]), int(wi[j]) // 2, int(wi[j]) % 2)
         if steps is not None:
             k_lo[j], k_hi[j] = steps
+    # Each layout's intervals side by side from column 0, in the order of its wafers (li
+    # ascends): as wide as the most a layout has, about half of W (a double's second place is
+    # nearly always empty), so the runs' sort, merge, latching and mapping handle half the
+    # columns; the same runs as at the wafers' own columns (_merge_runs sorts them stably).
     valid = k_lo <= k_hi
-    first = np.full((m, W), np.iinfo(np.int64).max)
-    lastk = np.full((m, W), -1, dtype=np.int64)
-    first[li[valid], wi[valid]] = k_lo[valid]
-    lastk[li[valid], wi[valid]] = k_hi[valid]
+    rows = li[valid]
+    counts = np.bincount(rows, minlength=m)
+    cols = np.arange(len(rows)) - (np.cumsum(counts) - counts)[rows]
+    width = max(1, int(counts.max(initial=0)))
+    first = np.full((m, width), np.iinfo(np.int64).max)
+    lastk = np.full((m, width), -1, dtype=np.int64)
+    first[rows, cols] = k_lo[valid]
+    lastk[rows, cols] = k_hi[valid]
     run_lo, run_hi, run_ok = _merge_runs(first, lastk)
     if scan.mode == SLOW:  # only the carrier's pockets are read (scan_result.pocket_window)
         w_lo = max(0, math.ceil((plan.seat_z(1) - 0.5 * plan.pitch - scan.start_z) / step))
@@ -234,9 +244,7 @@ def scan_block(base, draws):
         top = np.take_along_axis(top, order, axis=1)
         run_ok = np.take_along_axis(run_ok, order, axis=1)
     states, first_run = map_runs(plan, bottom, top, run_ok)
-    flagged = protruding_mask(base.carrier, plan, exists, draws.center.reshape(m, W, 3),
-                              draws.normal.reshape(m, W, 3), draws.thickness.reshape(m, W),
-                              draws.bow.reshape(m, W))
+    flagged = protruding_rows(base.carrier, plan, m, li, center, normal, thickness, bow)
     states = np.where(flagged, PROTRUDING, states)
     unscanned = _unscanned(plan, scan)
     if unscanned:

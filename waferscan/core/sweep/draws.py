@@ -209,8 +209,8 @@ def draw_block(base, tolerances, seed, block, count):
         if name == "tilt":
             draws["tilt_axis"] = rng.uniform(0.0, 2.0 * math.pi, (m, S, 2))
     zeros = np.zeros((m, S, 2))
-    t_nominal = carrier.wafer_thickness
-    t = draws.get("thickness", np.full((m, S, 2), t_nominal))
+    # The block's own array (the clipped draw, or a new one): its thin wafers' changed in place.
+    thickness = draws.get("thickness", np.full((m, S, 2), carrier.wafer_thickness))
     seat = np.array([carrier.seat_z(s) for s in range(1, S + 1)])
     cx, cy = carrier.center
     fx, fy = carrier.front
@@ -221,18 +221,19 @@ def draw_block(base, tolerances, seed, block, count):
     # The few wafers of a state are changed in place (the same floats as np.where's over the
     # whole block, without its arrays of every wafer).
     cross = kind == CROSS
-    z = np.broadcast_to(seat[None, :, None], (m, S, 2)).copy()
+    thickness[kind == THIN] *= THIN_FACTOR
+    # The centre of each slot's first wafer (m, S); a double's second is placed on it below,
+    # whatever its own seat and protrusion drew (drawn all the same: the seed decides them).
+    z = np.broadcast_to(seat[None, :], (m, S)).copy()
     z[kind == POSITION_ERROR] += MISPLACED_RISE
     z[cross] += 0.5 * carrier.pitch
-    thickness = t.copy()
-    thickness[kind == THIN] *= THIN_FACTOR
-    shift = np.where((kind == PROTRUDING)[..., None], PROTRUDING_SHIFT, 0.0) + \
-        draws.get("protrusion", zeros)
+    shift = np.where(kind == PROTRUDING, PROTRUDING_SHIFT, 0.0) + \
+        draws.get("protrusion", zeros)[..., 0]
     x = cx + shift * fx
     y = cy + shift * fy
-    z = z + draws.get("seat_offset", zeros)
+    z = z + draws.get("seat_offset", zeros)[..., 0]
     if "beam_z" in draws:  # the beam higher than taught: every wafer lower on the scan's scale
-        z = z - draws["beam_z"][:, None, None]
+        z = z - draws["beam_z"][:, None]
     normal = np.zeros((m, S, 2, 3))
     normal[..., 2] = 1.0
     slope = carrier.pitch / carrier.support_span
@@ -243,17 +244,20 @@ def draw_block(base, tolerances, seed, block, count):
     normal[cross] = cross_normal
     if "tilt" in draws:
         normal = _tilted(normal, draws["tilt"], draws["tilt_axis"])
-    center = np.empty((m, S, 2, 3))  # np.stack's, without its (m, S, 2, 1) temporaries
-    center[..., 0], center[..., 1], center[..., 2] = x, y, z
     # A double's second wafer lies on the first, whatever its seat, tilt and protrusion: its
-    # bottom face on the first's top face (the scenario's seat + t for a level pair).
-    center[..., 1, :] = center[..., 0, :] + thickness[..., 0, None] * normal[..., 0, :]
-    normal[..., 1, :] = normal[..., 0, :]
+    # bottom face on the first's top face (the scenario's seat + t for a level pair). Written
+    # coordinate by coordinate: (m, S) arrays, not (m, S, 3) ones whose innermost run is 3.
+    center = np.empty((m, S, 2, 3))
+    for axis, first in enumerate((x, y, z)):
+        center[..., 0, axis] = first
+        center[..., 1, axis] = first + thickness[..., 0] * normal[..., 0, axis]
+        normal[..., 1, axis] = normal[..., 0, axis]
     bow = draws.get("bow", zeros + _base_bow(base))
     e0 = base.layout.beam.direction
-    direction = np.tile(np.array(e0, dtype=float), (m, 1))
     if "beam_tilt" in draws:
         direction = _beam_tilted(e0, draws["beam_tilt"])
+    else:
+        direction = np.tile(np.array(e0, dtype=float), (m, 1))
     return Draws(truth, exists, center, normal, thickness, bow, direction,
                  draws.get("sensor_response"), draws.get("threshold_on"))
 
