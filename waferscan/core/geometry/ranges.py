@@ -434,12 +434,7 @@ def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):
     """The general region's corner candidates and feasible extremes in tau over rows of one
     kind: ``rim`` (qu, gu, pu, root) where the rim is two parallel lines, None where it is a
     conic. Returns (edge, lo, hi): ``edge`` where the parallel test of two lines is too close to
-    call; lo > hi where no candidate is feasible.
-
-    Its rows are few (a sweep's cross-slotted or tilted wafers), so the candidates are worked
-    out stacked, a row of a 2-d array each (every pair of lines at once, every line against the
-    rim at once), not one small array at a time: the same expressions element by element, the
-    same floats, and lo and hi taken over the candidates in the same order."""
+    call; lo > hi where no candidate is feasible."""
     import numpy as np
 
     one, zero = np.ones_like(wn), np.zeros_like(wn)
@@ -448,58 +443,51 @@ def _extremes(wn, en, an, p, q, g, r, r2, t, length, tol, rim):
     if rim is not None:
         qu, gu, pu, root = rim
         lines += [(qu, gu, -pu - root), (qu, gu, -pu + root)]
+    edge = np.zeros(wn.shape, dtype=bool)
+    candidates = []
     # The lines come in pairs of one direction (the beam's ends, the faces, the rim's two): such
     # a pair's det is a product less itself, exactly 0, never a corner. A beam's end and a rim
     # line are parallel too where gu = 0 (a level wafer lifted along its axis).
     family = (0, 0, 1, 1, 2, 2)
     rim_along_beam = rim is not None and not np.any(rim[1])
-    first, second = np.array([(i, j) for i in range(len(lines)) for j in range(i + 1, len(lines))
-                              if family[i] != family[j]
-                              and not (rim_along_beam and family[i] == 0 and family[j] == 2)]).T
-    alpha, beta, gamma = (np.stack(column) for column in zip(*lines))
-    a1, b1, c1 = alpha[first], beta[first], gamma[first]
-    a2, b2, c2 = alpha[second], beta[second], gamma[second]
-    # _solve_lines
-    det = a1 * b2 - a2 * b1
-    hyp = np.hypot(alpha, beta)
-    scale = hyp[first] * hyp[second]
-    limit = 1e-14 * scale
-    edge = np.any(np.abs(np.abs(det) - limit) <= EDGE_OF_PARALLEL * limit, axis=0)
-    lam = [(c1 * b2 - c2 * b1) / det]
-    tau = [(a1 * c2 - a2 * c1) / det]
-    valid = [~((scale == 0.0) | (np.abs(det) <= limit))]
+    for i, (a1, b1, c1) in enumerate(lines):
+        for j in range(i + 1, len(lines)):
+            if family[i] == family[j] or (rim_along_beam and family[i] == 0 and family[j] == 2):
+                continue
+            a2, b2, c2 = lines[j]
+            # _solve_lines
+            det = a1 * b2 - a2 * b1
+            scale = np.hypot(a1, b1) * np.hypot(a2, b2)
+            limit = 1e-14 * scale
+            edge |= np.abs(np.abs(det) - limit) <= EDGE_OF_PARALLEL * limit
+            valid = ~((scale == 0.0) | (np.abs(det) <= limit))
+            candidates.append(((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det, valid))
     if rim is None:
-        # _line_meets_circle, each line and the tangent (alpha, beta, gamma) a row
         tangent = (_dot(q, q), _dot(q, g), -_dot(q, p))
-        alpha, beta, gamma = (np.concatenate([rows, [more]]) for rows, more in
-                              zip((alpha, beta, gamma), tangent))
-        nn = alpha * alpha + beta * beta
-        lam0, tau0 = gamma * alpha / nn, gamma * beta / nn
-        dlam, dtau = -beta, alpha
-        p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
-        v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
-        vv = _dot(v, v)
-        pv = _dot(p0, v)
-        c = _dot(p0, p0) - r2
-        disc = pv * pv - vv * c
-        root = np.sqrt(np.maximum(disc, 0.0))
-        meets = (nn != 0.0) & (vv != 0.0) & ~(disc < 0.0)
-        # (line, root) -> candidate, each line's two roots one after the other
-        s = np.stack([(-pv - root) / vv, (-pv + root) / vv], axis=1)
-        shape = (2 * len(nn),) + wn.shape
-        lam.append((lam0[:, None] + s * dlam[:, None]).reshape(shape))
-        tau.append((tau0[:, None] + s * dtau[:, None]).reshape(shape))
-        valid.append(np.repeat(meets, 2, axis=0))
-    lam, tau, valid = (np.concatenate(x) for x in (lam, tau, valid))
+        for alpha, beta, gamma in lines + [tangent]:
+            # _line_meets_circle
+            nn = alpha * alpha + beta * beta
+            lam0, tau0 = gamma * alpha / nn, gamma * beta / nn
+            dlam, dtau = -beta, alpha
+            p0 = tuple(pi + lam0 * qi + tau0 * gi for pi, qi, gi in zip(p, q, g))
+            v = tuple(dlam * qi + dtau * gi for qi, gi in zip(q, g))
+            vv = _dot(v, v)
+            pv = _dot(p0, v)
+            c = _dot(p0, p0) - r2
+            disc = pv * pv - vv * c
+            root = np.sqrt(np.maximum(disc, 0.0))
+            valid = (nn != 0.0) & (vv != 0.0) & ~(disc < 0.0)
+            for s in ((-pv - root) / vv, (-pv + root) / vv):
+                candidates.append((lam0 + s * dlam, tau0 + s * dtau, valid))
     # _feasible_range
-    ok = valid & (-tol - SLACK <= lam) & (lam <= length + tol + SLACK)
-    h = wn + lam * en + tau * an
-    ok &= (-tol - SLACK <= h) & (h <= t + tol + SLACK)
-    x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
-    ok &= ~(_dot(x, x) > r2 + 2.0 * r * SLACK)
     lo = np.full(wn.shape, np.inf)
     hi = np.full(wn.shape, -np.inf)
-    for row_tau, row_ok in zip(tau, ok):
-        np.minimum(lo, row_tau, out=lo, where=row_ok)
-        np.maximum(hi, row_tau, out=hi, where=row_ok)
+    for lam, tau, valid in candidates:
+        ok = valid & (-tol - SLACK <= lam) & (lam <= length + tol + SLACK)
+        h = wn + lam * en + tau * an
+        ok &= (-tol - SLACK <= h) & (h <= t + tol + SLACK)
+        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
+        ok &= ~(_dot(x, x) > r2 + 2.0 * r * SLACK)
+        lo = np.where(ok, np.minimum(lo, tau), lo)
+        hi = np.where(ok, np.maximum(hi, tau), hi)
     return edge, lo, hi

@@ -401,9 +401,9 @@ def protruding_mask(carrier, plan, exists, center, normal, thickness, bow):
                            thickness[li, wi], bow[li, wi])
 
 
-def protruding_rows(carrier, plan, m, layout, center, normal, thickness, bow):
+def protruding_rows(carrier, plan, m, owner, center, normal, thickness, bow):
     """``protruding_mask`` of m layouts from their wafers alone (a sweep's scan has them
-    gathered already): ``layout`` (n,) the layout of each, ``center`` and ``normal`` (n, 3),
+    gathered already): ``owner`` (n,) the index of each one's layout, ``center`` and ``normal`` (n, 3),
     ``thickness`` and ``bow`` (n,). Each wafer's sums are its own, so the same floats as over
     every place of every layout; the places that hold no wafer are not worked out at all."""
     import numpy as np
@@ -426,7 +426,7 @@ def protruding_rows(carrier, plan, m, layout, center, normal, thickness, bow):
     flagged = inside & (reach - r > plan.protrusion_limit)
     for j in np.flatnonzero(flagged):
         # protrusions_by_slot: the nearest slot to its bottom and every seat its Z extent spans
-        i = layout[j]
+        i = owner[j]
         nz = float(n[j, 2])
         half = r * math.sqrt(max(0.0, 1.0 - nz * nz)) + (0.5 * float(t[j])
                                                           + abs(float(bow[j]))) * abs(nz)

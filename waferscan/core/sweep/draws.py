@@ -209,7 +209,7 @@ def draw_block(base, tolerances, seed, block, count):
         if name == "tilt":
             draws["tilt_axis"] = rng.uniform(0.0, 2.0 * math.pi, (m, S, 2))
     zeros = np.zeros((m, S, 2))
-    # The block's own array (the clipped draw, or a new one): its thin wafers' changed in place.
+    # The block's own array (the clipped draw, or a new one): its thin wafers changed in place.
     thickness = draws.get("thickness", np.full((m, S, 2), carrier.wafer_thickness))
     seat = np.array([carrier.seat_z(s) for s in range(1, S + 1)])
     cx, cy = carrier.center
