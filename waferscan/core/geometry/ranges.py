@@ -189,7 +189,13 @@ def _corner_candidates(lines, conic, p, q, g, r2):
     tangent to a line tau = const."""
     candidates = []
     for i, first in enumerate(lines):
+        a1, b1 = first[0], first[1]
         for second in lines[i + 1:]:
+            # Two lines of one direction (the beam's ends, the faces, the rim's two), or two with
+            # beta 0 (the beam's ends and a rim along the beam): det is exactly 0 (or NaN, never
+            # feasible), never a corner; _solve_lines is not asked.
+            if (second[0] == a1 and second[1] == b1) or (b1 == 0.0 and second[1] == 0.0):
+                continue
             point = _solve_lines(first, second)
             if point is not None:
                 candidates.append(point)
@@ -205,15 +211,22 @@ def _feasible_range(candidates, wn, en, an, p, q, g, r, r2, t, length, tol):
     """(lowest, highest) tau among the candidates that lie in the region (on the beam, between
     the faces, within the rim, each with 1e-9 mm of slack for rounding); None if none does."""
     slack = SLACK
+    low, lam_high, h_high = -tol - slack, length + tol + slack, t + tol + slack
+    rim = r2 + 2.0 * r * slack
+    px, py, pz = p
+    qx, qy, qz = q
+    gx, gy, gz = g
     feasible = []
     for lam, tau in candidates:
-        if not -tol - slack <= lam <= length + tol + slack:
+        if not low <= lam <= lam_high:
             continue
         h = wn + lam * en + tau * an
-        if not -tol - slack <= h <= t + tol + slack:
+        if not low <= h <= h_high:
             continue
-        x = tuple(pi + lam * qi + tau * gi for pi, qi, gi in zip(p, q, g))
-        if _dot(x, x) > r2 + 2.0 * r * slack:
+        # |p + lam q + tau g|^2, term by term in _dot's order (this runs for every corner of
+        # every tilted wafer of an analytic scan)
+        x, y, z = px + lam * qx + tau * gx, py + lam * qy + tau * gy, pz + lam * qz + tau * gz
+        if x * x + y * y + z * z > rim:
             continue
         feasible.append(tau)
     if not feasible:
