@@ -403,9 +403,9 @@ def protruding_mask(carrier, plan, exists, center, normal, thickness, bow):
 
 def protruding_rows(carrier, plan, m, owner, center, normal, thickness, bow):
     """``protruding_mask`` of m layouts from their wafers alone (a sweep's scan has them
-    gathered already): ``owner`` (n,) the index of each one's layout, ``center`` and ``normal`` (n, 3),
-    ``thickness`` and ``bow`` (n,). Each wafer's sums are its own, so the same floats as over
-    every place of every layout; the places that hold no wafer are not worked out at all."""
+    gathered already): ``owner`` (n,) the index of each one's layout, ``center`` and ``normal``
+    (n, 3), ``thickness`` and ``bow`` (n,). Each wafer's sums are its own, so the same floats as
+    over every place of every layout; the places that hold no wafer are not worked out at all."""
     import numpy as np
 
     S = plan.slot_count
