@@ -102,26 +102,35 @@ def with_clearance(scene, result, body=None):
     return clearance_added(result, body)
 
 
-_CONVERTED = []  # [(the carrier's shapes last converted, their placements, what they became)]
+_CONVERTED = []  # [(the carrier's shapes last converted, what names them, their matrices, what
+#                    they became)]
 
 
 def _carrier_solids(scene, layout):
     """The scanned carrier's solids in the world as the robot layer takes them, [(vertices,
     triangles, name)] (``carrier_shapes``): a solid of 6 plane faces and 8 corners goes as its
     corners, triangles None (the robot layer makes a box of a box's, else their hull); any other
-    (a curved face bulges beyond its corners' hull) is tessellated to 0.1 mm. Each scan reads the document afresh; the same solids as the last
-    time (OpenCASCADE's partners, the same geometry, at the same placements) give the same tuple
-    back without reading their corners again (1.3 ms of the paper's 2.5 ms scan)."""
-    shapes = carrier_shapes(scene, layout)
-    placements = [solid.Placement.Matrix.A for _, solid in shapes]
+    (a curved face bulges beyond its corners' hull) is tessellated to 0.1 mm.
+
+    Each scan reads the document afresh. The same shapes as the last time give the same tuple
+    back without reading their corners again (1.3 ms of the paper's 2.5 ms scan), nor their
+    solids (the 55 solids of the paper's carrier and their placements, read one by one to
+    compare, were a fifth of its clearance check): each shape the carrier shows
+    (``_carrier_found``: a built carrier's one compound) OpenCASCADE's partner of the last one
+    (the same geometry, its solids and their places in it included) at the same matrix,
+    under the same names. Its solids are then the same solids at the same placements, so
+    their corners and triangles are the same floats."""
+    found = _carrier_found(scene, layout)
+    named = _names_key(layout, found)
+    # Each location's own matrix (not Placement.Matrix: a matrix made again from a rotation).
+    matrices = [shape.Matrix.A for _, shape, _ in found]
     if _CONVERTED:
-        known, where, converted = _CONVERTED[0]
-        if len(known) == len(shapes) and where == placements and all(
-                name == old and solid.isPartner(before)
-                for (name, solid), (old, before) in zip(shapes, known)):
+        known, names, where, converted = _CONVERTED[0]
+        if names == named and where == matrices and all(
+                shape.isPartner(before) for (_, shape, _), (_, before, _) in zip(found, known)):
             return converted
     solids = []
-    for name, solid in shapes:
+    for name, solid in _named_solids(layout, found):
         if len(solid.Faces) == 6 and len(solid.Vertexes) == 8 and all(
                 type(face.Surface).__name__ == "Plane" for face in solid.Faces):
             solids.append(([(v.X, v.Y, v.Z) for v in solid.Vertexes], None, name))
@@ -129,7 +138,7 @@ def _carrier_solids(scene, layout):
             points, triangles = solid.tessellate(0.1)
             solids.append(([(v.x, v.y, v.z) for v in points], triangles, name))
     solids = tuple(solids)
-    _CONVERTED[:] = [(shapes, placements, solids)]
+    _CONVERTED[:] = [(found, named, matrices, solids)]
     return solids
 
 
@@ -138,6 +147,12 @@ def carrier_shapes(scene, layout):
     those of the untagged objects it holds (not its wafers), as the 3D view shows them. A built
     carrier's are named as ``features.carrier_solids`` makes them (``LP1 wall_left``, ``LP1
     slot 3 ledge_right``), others by their object's label (``FOUP Base``)."""
+    return _named_solids(layout, _carrier_found(scene, layout))
+
+
+def _carrier_found(scene, layout):
+    """[(label, the object's shape in the world, whether a built CarrierBody)]: the shapes of
+    the scanned carrier that ``carrier_shapes`` takes the solids of."""
     import Part
 
     from . import roles
@@ -163,6 +178,21 @@ def carrier_shapes(scene, layout):
 
     if instance is not None:
         walk(instance.sub, instance.obj, 0)
+    return found
+
+
+def _names_key(layout, found):
+    """What ``_named_solids`` names the solids of ``found`` by, but their count (the same
+    shapes have as many): the carrier's name, each shape's label and whether built, and the
+    scanned carrier's slot count when one is built."""
+    built = any(b for _, _, b in found)
+    return (layout.carrier, [(label, b) for label, _, b in found],
+            layout.scanned_carrier.slot_count if built else None)
+
+
+def _named_solids(layout, found):
+    """[(name, Part solid in the world)] of the shapes ``found`` (``_carrier_found``), named as
+    ``carrier_shapes`` says."""
     shapes = []
     for label, shape, built in found:
         shape_solids = shape.Solids

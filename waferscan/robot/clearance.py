@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import os
+import struct
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
@@ -59,6 +60,9 @@ BOW_SIDES = 128  # points on each ring (coal's hull allows a vertex at most 255 
 # along Z are weighed first (the answer when one is nearer than that).
 NEAR_BAND_FROM = 200
 NEAR_BAND = 100.0
+# _nearest_among: how far beyond the least distance found a pair's boxes must lie apart to be
+# passed over unmeasured (far more than coal's error and the boxes' rounding, ~1e-12 mm).
+APART_SLACK = 0.01
 
 
 def _frame_z(axis):
@@ -111,14 +115,21 @@ def _norms(vectors):
     return np.sqrt(np.add.reduce(vectors * vectors, axis=0))
 
 
-def _in_gap_order(gaps, bound):
+def _in_gap_order(gaps, bound, apart=None):
     """(index, gap) of the flat ``gaps`` in the order of their stable argsort (equal gaps by
     index, NaN last), for a loop that stops at the first gap no less than ``bound()``, a bound
     that never grows. The least gap first (argmin's first, the sort's first but for a NaN);
     then, sorted the same way, only the gaps below ``bound()`` as read after the first: the
     loop stops at any other, as the bound only falls. So the loop weighs the same pairs as
     with the whole sort, which took ~5 % of a slow scan's clearance to weigh ~6 pairs of ~540.
-    With a NaN gap, the whole sort."""
+    With a NaN gap, the whole sort.
+
+    ``apart`` (flat, as ``gaps``): also left out after the first, the pairs the loop passes
+    over unmeasured at that bound (``_nearest_among``: boxes more than APART_SLACK apart, by
+    at least the bound plus APART_SLACK), the same test in the same floats: as the bound only
+    falls, the loop would pass over them wherever they came (or stop at one, and then at the
+    next pair, whose gap is no less). The same pairs are measured, without stepping over the
+    others one by one."""
     if not len(gaps):
         return
     first = int(gaps.argmin())
@@ -127,7 +138,10 @@ def _in_gap_order(gaps, bound):
         below = np.ones(len(gaps), dtype=bool)
     else:
         yield first, least
-        below = ~(gaps >= bound())  # not <: a NaN bound stops nothing
+        limit = bound()
+        below = ~(gaps >= limit)  # not <: a NaN bound stops nothing
+        if apart is not None:
+            below &= ~((apart > APART_SLACK) & (apart - APART_SLACK >= limit))
         below[first] = False
     indices = below.nonzero()[0]
     order = indices[gaps[indices].argsort(kind="stable")]
@@ -164,6 +178,41 @@ def _swept_along_z(geometry, travel):
     if isinstance(geometry, coal.Capsule):
         return coal.Capsule(geometry.radius, 2.0 * geometry.halfLength + travel)
     return coal.Capsule(geometry.radius, travel)  # Sphere
+
+
+def _box_halves(geometry):
+    """(hx, hy, hz, r): the shape lies in the box of half sides (hx, hy, hz) in its own frame
+    grown by r (a capsule's and a sphere's radius); None for another shape. What
+    ``_nearest_among`` bounds a swept part's distances by (``swept``)."""
+    if isinstance(geometry, coal.Box):
+        x, y, z = (float(v) for v in geometry.halfSide)
+        return x, y, z, 0.0
+    if isinstance(geometry, coal.Cylinder):
+        return geometry.radius, geometry.radius, geometry.halfLength, 0.0
+    if isinstance(geometry, coal.Capsule):
+        return 0.0, 0.0, geometry.halfLength, geometry.radius
+    if isinstance(geometry, coal.Sphere):
+        return 0.0, 0.0, 0.0, geometry.radius
+    return None
+
+
+_SWEPT_MADE = {}  # (id of a shape, travel) -> (the shape, _swept_shape's answer)
+
+
+def _swept_shape(geometry, travel):
+    """(``_swept_along_z(geometry, travel)``, its ``_bound_radius``, its ``_box_halves``),
+    made once for the same shape (a robot's own, kept by ``collision_model``) and travel: a
+    stroke scanned again sweeps the same shapes as far, and making 7 coal shapes and their
+    radii each time was a tenth of a fast scan's ``swept``. The same shape, so the same
+    distances."""
+    key = (id(geometry), travel)
+    made = _SWEPT_MADE.get(key)
+    if made is None or made[0] is not geometry:
+        if len(_SWEPT_MADE) >= 256:
+            _SWEPT_MADE.clear()
+        shape = _swept_along_z(geometry, travel)
+        made = _SWEPT_MADE[key] = (geometry, (shape, _bound_radius(shape), _box_halves(shape)))
+    return made[1]
 
 
 CONVEX_TEST_TRIANGLES = 4000  # a larger mesh is taken for non-convex (the test is O(V x T))
@@ -393,6 +442,35 @@ def _carrier_items(solids):
     return items
 
 
+_BOUNDS_MADE = []  # [(wafer items, carrier items, their arrays)] (``Obstacles._bounds``)
+
+
+def _bounds_of(wafers, carrier):
+    """``Obstacles._bounds``' arrays of the items ``wafers + carrier`` (the tuples or lists
+    ``_wafer_items`` and ``_carrier_items`` keep), made once for the same objects."""
+    for known_wafers, known_carrier, made in _BOUNDS_MADE:
+        if known_wafers is wafers and known_carrier is carrier:
+            return made
+    items = list(wafers) + list(carrier)
+    centres = np.array([item[4] for item in items]).reshape(-1, 3)
+    radii = np.array([item[5] for item in items])
+    lows = np.array([item[6] for item in items]).reshape(-1, 3)
+    highs = np.array([item[7] for item in items]).reshape(-1, 3)
+    # For _nearest: the same, components first (``_norms``).
+    by_axis = tuple(np.ascontiguousarray(a.T) for a in (centres, lows, highs))
+    # For within_z: the boxes by their bottoms, and the tallest box's height.
+    by_bottom = np.argsort(lows[:, 2], kind="stable")
+    bottoms = lows[by_bottom, 2]
+    tallest = float(np.max(highs[:, 2] - lows[:, 2])) if items else 0.0
+    for array in (centres, radii, lows, highs, by_bottom, bottoms) + by_axis:
+        array.flags.writeable = False  # shared by every body that holds these items
+    made = (centres, radii, lows, highs, by_axis, by_bottom, bottoms, tallest)
+    # Kept with the items they are made of (whose identity is the key): the wafers alone and
+    # with the carrier's solids, for a document or two.
+    _BOUNDS_MADE[:] = [(wafers, carrier, made)] + _BOUNDS_MADE[:3]
+    return made
+
+
 class Obstacles:
     """The layout's wafers as coal solids, and the carrier's solids when given (``carrier``:
     [(vertices (n, 3) mm, triangles (m, 3) indices, name)], closed meshes in the world; triangles
@@ -400,9 +478,12 @@ class Obstacles:
     items (name, slot, geometry, transform, centre, radius, low, high, inside)."""
 
     def __init__(self, layout, carrier=()):
-        self.items = list(_wafer_items(layout.scanned_carrier, layout.wafers))
+        self._wafer_items = _wafer_items(layout.scanned_carrier, layout.wafers)
+        self._carrier_items = ()
+        self.items = list(self._wafer_items)
         self.carrier, self.carrier_count = (), 0
-        self._bounds()
+        if not carrier:  # else add_carrier makes them
+            self._bounds()
         self.add_carrier(carrier)
 
     def add_carrier(self, solids):
@@ -411,22 +492,19 @@ class Obstacles:
         if solids is self.carrier or (not solids and not self.carrier):
             return
         wafers = len(self.items) - self.carrier_count
-        self.items = self.items[:wafers] + (_carrier_items(solids) if solids else [])
+        self._carrier_items = _carrier_items(solids) if solids else ()
+        self.items = self.items[:wafers] + list(self._carrier_items)
         self.carrier, self.carrier_count = solids, len(self.items) - wafers
         self._bounds()
 
     def _bounds(self):
-        self.centres = np.array([item[4] for item in self.items]).reshape(-1, 3)
-        self.radii = np.array([item[5] for item in self.items])
-        self.lows = np.array([item[6] for item in self.items]).reshape(-1, 3)
-        self.highs = np.array([item[7] for item in self.items]).reshape(-1, 3)
-        # For _nearest: the same, components first (``_norms``).
-        self.by_axis = tuple(np.ascontiguousarray(a.T) for a in (self.centres, self.lows,
-                                                                 self.highs))
-        # For within_z: the boxes by their bottoms, and the tallest box's height.
-        self._by_bottom = np.argsort(self.lows[:, 2], kind="stable")
-        self._bottoms = self.lows[self._by_bottom, 2]
-        self._tallest = float(np.max(self.highs[:, 2] - self.lows[:, 2])) if self.items else 0.0
+        """The arrays ``_nearest`` and ``within_z`` weigh the items by, made once for the same
+        items (``_wafer_items``' and ``_carrier_items``' own, which a document scanned again
+        gives again: ~a tenth of the paper's clearance check): the same arrays of the same
+        floats, read only, shared by the bodies that hold those items."""
+        made = _bounds_of(self._wafer_items, self._carrier_items)
+        (self.centres, self.radii, self.lows, self.highs, self.by_axis, self._by_bottom,
+         self._bottoms, self._tallest) = made
 
     def within_z(self, bottom, top):
         """The indices (ascending) of the obstacles whose boxes reach into (bottom, top) along Z:
@@ -494,13 +572,16 @@ class _Body:
             return known[1]
         return _bound_radius(geometry)  # a swept shape, made for one question
 
-    def _nearest(self, parts, centres=None, radii=None):
+    def _nearest(self, parts, centres=None, radii=None, extents=None):
         """(distance, part, obstacle, slot, witness on the part) of the closest pair: the
         pairs in the order of their bounding spheres' distance, until that is no less than the
         least distance found. First among the obstacles within NEAR_BAND mm of the parts
         along Z, which is the answer when it is nearer than that; else among them all.
         ``centres`` ((n, 3): the parts' translations) and ``radii`` (their shapes' bounding
-        radii), when the caller has them as arrays already; made from the parts when None."""
+        radii), when the caller has them as arrays already; made from the parts when None.
+        ``extents`` ((3, n), or None): the half sides of boxes about the parts' translations,
+        square to the world, that hold them (``_nearest_among`` passes over a pair whose boxes
+        lie apart by more than the least distance found)."""
         best = (math.inf, "", "", None, None)
         if not self.obstacles.items or not parts:
             return best
@@ -517,14 +598,27 @@ class _Body:
             bottom = float(np.min(centres[:, 2] - radii)) - NEAR_BAND
             top = float(np.max(centres[:, 2] + radii)) + NEAR_BAND
             best = self._nearest_among(parts, centres, radii, obstacles.within_z(bottom, top),
-                                       best)
+                                       best, extents)
             if best[0] < NEAR_BAND:
                 return best
             best = (math.inf, "", "", None, None)
-        return self._nearest_among(parts, centres, radii, None, best)
+        return self._nearest_among(parts, centres, radii, None, best, extents)
 
-    def _nearest_among(self, parts, centres, radii, among, best):
-        """``_nearest`` over the obstacles ``among`` (indices, ascending; None: all)."""
+    def _nearest_among(self, parts, centres, radii, among, best, extents=None):
+        """``_nearest`` over the obstacles ``among`` (indices, ascending; None: all).
+
+        With ``extents``, a pair whose boxes (the part's, the obstacle's: both hold their
+        shapes) lie apart by more than APART_SLACK, and by at least the least distance found
+        plus APART_SLACK, is passed over, not measured. The shapes are then apart (so coal's
+        distance is not a depth, nor a mesh's inside test turns it: the part's origin lies
+        outside the mesh's box), and coal's distance of shapes apart is the length of a
+        point of their Minkowski difference, never below the true distance but by rounding,
+        itself no less than the boxes' gap: it would not have been less than the least found.
+        The pairs are still weighed in the same order and stopped at the same pair, so the
+        least distance, part, obstacle and witness are the same, to the last bit, for fewer
+        of coal's distances (a swept stroke's long shapes lie far within their bounding
+        spheres: 28 of the paper's 48 were the carrier's walls and ledges, 5 to 76 mm away,
+        measured because of them)."""
         obstacles = self.obstacles
         (o_centres, lows, highs), o_radii = obstacles.by_axis, obstacles.radii
         if among is not None:
@@ -541,12 +635,20 @@ class _Body:
             outside = np.maximum(np.maximum(lows - ends, ends - highs), 0.0)
             gaps = np.maximum(gaps, _norms(outside) - radii[:, None])
         count = gaps.shape[1]
+        apart = None
+        if extents is not None:
+            near, far = ends - extents[:, :, None], ends + extents[:, :, None]
+            apart = _norms(np.maximum(np.maximum(lows - far, near - highs), 0.0)).ravel()
         transforms = {}
         # Stable: pairs whose bounds tie are weighed in the order of the obstacles, the same
         # order whichever obstacles are among them.
-        for flat, gap in _in_gap_order(gaps.ravel(), lambda: best[0]):
+        for flat, gap in _in_gap_order(gaps.ravel(), lambda: best[0], apart):
             if gap >= best[0]:
                 break
+            if apart is not None:
+                boxes = float(apart[flat])
+                if boxes > APART_SLACK and boxes - APART_SLACK >= best[0]:
+                    continue  # at least as far as the least found: it would not replace it
             i, column = divmod(flat, count)
             index = column if among is None else int(among[column])
             name, geometry, rotation, translation, _ = parts[i]
@@ -577,21 +679,36 @@ class _Body:
         travel = abs(motion.end - motion.start) / abs(axis[2])
         sign = 1.0 if motion.end >= motion.start else -1.0
         direction = sign * axis
+        # ``translation + 0.5 * travel * direction`` makes its right side first: made once,
+        # the same floats for every part.
+        shift = 0.5 * travel * direction
         start = self.parts_at(motion, motion.start)
-        swept, halves = [], {}
+        swept, halves, radii, boxes = [], {}, [], []
         for name, geometry, rotation, translation, moves in start:
             if not moves or travel == 0.0:
                 swept.append((name, geometry, rotation, translation, moves))
+                radii.append(self._radius(geometry))
+                boxes.append(_box_halves(geometry))
                 continue
             if isinstance(geometry, coal.Sphere):
                 rotation = _frame_z(axis)
             elif abs(abs(rotation[:, 2] @ axis) - 1.0) > 1e-12 or not isinstance(
                     geometry, (coal.Box, coal.Cylinder, coal.Capsule)):
                 return None  # not along its own axis: the Lipschitz search instead
-            swept.append((name, _swept_along_z(geometry, travel), rotation,
-                          translation + 0.5 * travel * direction, moves))
+            shape, radius, box = _swept_shape(geometry, travel)
+            swept.append((name, shape, rotation, translation + shift, moves))
+            radii.append(radius)
+            boxes.append(box)
             halves[name] = (translation, _half_length(geometry))
-        d, part, obstacle, slot, witness = self._nearest(swept)
+        extents = None
+        if swept and all(box is not None for box in boxes):
+            # Each part's box square to the world: |R| times its own half sides, plus its
+            # rounding (a capsule's, a sphere's radius).
+            boxes = np.array(boxes)
+            turned = np.abs(np.array([part[2] for part in swept])) @ boxes[:, :3, None]
+            extents = (turned[:, :, 0] + boxes[:, 3:]).T
+        # ``_nearest``'s radii, as it would make them: each shape's ``_radius``.
+        d, part, obstacle, slot, witness = self._nearest(swept, None, np.array(radii), extents)
         if d <= 0.0:
             # Overlapping: a swept shape's depth is not the least depth at one position, so
             # the Lipschitz search answers (its contact is a position's own signed distance).
@@ -620,8 +737,8 @@ class RobotBody(_Body):
         if urdf is None and spec is not None:
             urdf = spec.urdf
         self.robot, self.geometry, self.geometry_data, self.parts = collision_model(urdf)
-        self._holds([shape for _, shape, _ in self.parts])
-        self._part_radii = np.array([self._radius(shape) for _, shape, _ in self.parts])
+        radii, self._part_radii, moves, self.joint_index = self._of_model()
+        self._radii = radii  # ``_holds``' of the parts' shapes
         if base is None:
             base = (tuple(spec.base), spec.base_yaw) if spec is not None \
                 else ((0.0, 0.0, 0.0), 0.0)
@@ -632,17 +749,52 @@ class RobotBody(_Body):
         c, s = math.cos(yaw), math.sin(yaw)
         self.turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
         self.offset = np.asarray(base[0], dtype=float)
-        self.z0 = self.robot.beam(self.start, base)[0][2]
-        self.axis = self.robot.lift_axis(base)
+        self.z0, self.axis = self._beam_height_and_lift()
         self.lift_axis = np.asarray(self.axis, dtype=float)
-        lift_index = self.robot.joint_names.index(self.robot.lift_joint) + 1
         # A part moves with the lift when the lift joint is among its joint's ancestors.
-        self.moves = [self._downstream(joint, lift_index) for _, _, joint in self.parts]
-        self.joint_index = {name: i + 1 for i, name in enumerate(self.robot.joint_names)}
+        self.moves = list(moves)
         self.wrist = "wrist"
         self._advanced = {}
         self._joints_at = {}  # (motion, s) -> joint values: nearest and path ask for the same
         self._reach_for = (None, None)
+
+    def _of_model(self):
+        """What depends on the collision model only, made once for it (``_MODEL_MADE``): the
+        shapes' bounding radii (``_holds``' dict and the parts' array, read only), whether
+        each part moves with the lift, and each joint's index."""
+        for parts, made in _MODEL_MADE:
+            if parts is self.parts:
+                return made
+        self._holds([shape for _, shape, _ in self.parts])
+        part_radii = np.array([self._radius(shape) for _, shape, _ in self.parts])
+        part_radii.flags.writeable = False
+        lift_index = self.robot.joint_names.index(self.robot.lift_joint) + 1
+        moves = tuple(self._downstream(joint, lift_index) for _, _, joint in self.parts)
+        joint_index = {name: i + 1 for i, name in enumerate(self.robot.joint_names)}
+        made = (self._radii, part_radii, moves, joint_index)
+        _MODEL_MADE[:] = [(self.parts, made)] + _MODEL_MADE[:3]
+        return made
+
+    def _beam_height_and_lift(self):
+        """(the beam's height in the start pose, the lift's axis in the world): the robot's
+        forward kinematics at the start pose and base, made once for the same model, start
+        pose and base (``_POSE_MADE``; a document scanned again gives the same: a third of
+        the body's making). Keyed by the values' bits, not by their equality (-0.0 == 0.0,
+        yet a yaw of -0.0 may give zeros of another sign): the same bits, the same
+        arithmetic, the same floats."""
+        names = tuple(self.start)
+        try:
+            key = (names, struct.pack(f"{len(names) + 4}d", *self.start.values(),
+                                      *self.base[0], self.base[1]))
+        except (struct.error, TypeError, ValueError):
+            key = None  # not plain numbers: made afresh
+        for parts, known, made in _POSE_MADE:
+            if key is not None and parts is self.parts and known == key:
+                return made
+        made = (self.robot.beam(self.start, self.base)[0][2], self.robot.lift_axis(self.base))
+        if key is not None:
+            _POSE_MADE[:] = [(self.parts, key, made)] + _POSE_MADE[:3]
+        return made
 
     def _downstream(self, joint, ancestor):
         parents = self.robot.model.parents
@@ -749,13 +901,15 @@ class RobotBody(_Body):
 
 
 _MODELS = {}  # (URDF path, its mtime) -> collision_model's answer: coal objects made once
+_MODEL_MADE = []  # [(a collision model's parts, RobotBody._of_model's answer)]
+_POSE_MADE = []  # [(a collision model's parts, start pose and base, RobotBody's z0 and axis)]
 
 
 def collision_model(urdf=None):
     """(WaferRobot, Pinocchio GeometryModel and GeometryData of its <collision> elements,
     [(name, coal shape in mm, parent joint)]) of a URDF (None: the bundled robot), made once per
     file version and kept: a scan's clearance check then costs its distances only."""
-    path = urdf or bundled_urdf()
+    path = urdf or _bundled_urdf()
     key = (str(path), os.path.getmtime(path))
     if key not in _MODELS:
         robot = WaferRobot(path)
@@ -776,6 +930,17 @@ def collision_model(urdf=None):
             parts.append((names[i] if i < len(names) else obj.name, scaled, obj.parentJoint))
         _MODELS[key] = (robot, geometry, pin.GeometryData(geometry), parts)
     return _MODELS[key]
+
+
+_BUNDLED = []  # [bundled_urdf()]
+
+
+def _bundled_urdf():
+    """``bundled_urdf()``, made once: the addon's folder does not move, and its path
+    arithmetic cost a body more than the rest of ``collision_model``."""
+    if not _BUNDLED:
+        _BUNDLED.append(bundled_urdf())
+    return _BUNDLED[0]
 
 
 def _collision_names(urdf):
