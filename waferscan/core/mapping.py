@@ -327,8 +327,9 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
     not wholly cover: whatever their runs say is not known, so they are ``?`` (SPEC §3). The
     load port's protrusion check does not depend on the scan: 6 outranks ``?`` too."""
     count = plan.slot_count
-    # By slot number (index 0 unused): a scan maps every slot, once. A slot's list of runs is
-    # made when its first run comes (most slots of a scan have one run or none).
+    # By slot number (index 0 unused): a scan maps every slot, once. A slot's tuple of runs is
+    # made when its first run comes and grown by a second (most slots of a scan have one run
+    # or none): the SlotState's own, without a list to copy.
     states = [EMPTY] * (count + 1)
     members = [None] * (count + 1)
     if plan.rules == BOUNDARY:
@@ -343,15 +344,15 @@ def map_slots(plan, runs, protruding_slots=(), unscanned=()):
             states[slot] = PROTRUDING
     first, pitch = plan.first_slot_z, plan.pitch  # seat_z(slot), written out
     return SlotMap(tuple([SlotState(slot, first + (slot - 1) * pitch, state,
-                                    () if held is None else tuple(held))
+                                    () if held is None else held)
                           for slot, state, held in zip(range(1, count + 1), states[1:],
                                                        members[1:])]))
 
 
 def _land_runs(plan, runs, states, members):
-    """``map_slots``' states and members (by slot number) of the runs, by ``run_judge``'s
-    findings: the worst finding a slot wins, and a second run in a slot that is not
-    cross-slotted is a position error."""
+    """``map_slots``' states and members (by slot number: a tuple of run indices, None for
+    none yet) of the runs, by ``run_judge``'s findings: the worst finding a slot wins, and a
+    second run in a slot that is not cross-slotted is a position error."""
     judge = run_judge(plan)
     rank = _RANK
     for index, (bottom, top) in enumerate(runs):
@@ -359,12 +360,12 @@ def _land_runs(plan, runs, states, members):
         for slot, state in judge(bottom, top):
             held = members[slot]
             if held is None:
-                members[slot] = [index]
+                members[slot] = (index,)
             else:
                 if state != CROSS:
                     # A second run in a slot is not a normally inserted wafer.
                     two_runs_in_one_slot = (two_runs_in_one_slot or []) + [slot]
-                held.append(index)
+                members[slot] = held + (index,)
             if rank[state] > rank[states[slot]]:
                 states[slot] = state
         for slot in two_runs_in_one_slot or ():
@@ -377,7 +378,9 @@ def _land_by_bottom_edge(plan, runs, states, members):
     out in the loop (the same limits and sums, so the same states; tests/core/test_fab_floor.py
     checks it against ``_land_runs``): its list of findings a run and the call were a third of
     the slot map of a fab's scan. A run lands in one slot, or (cross-slotted) in the two around
-    its midpoint, which are CROSS and so never a second run's position error."""
+    its midpoint, which are CROSS and so never a second run's position error. A slot without
+    members is EMPTY (as the caller makes them, and as landing keeps them: a state is set
+    where a member is)."""
     double, below, above, low, high = _bottom_edge_limits(plan)
     first, pitch, count = plan.first_slot_z, plan.pitch, plan.slot_count
     correction = plan.thickness_correction
@@ -392,10 +395,7 @@ def _land_by_bottom_edge(plan, runs, states, members):
             for slot in (lower, lower + 1):
                 if 1 <= slot <= count:
                     held = members[slot]
-                    if held is None:
-                        members[slot] = [index]
-                    else:
-                        held.append(index)
+                    members[slot] = (index,) if held is None else held + (index,)
                     if cross_rank > rank[states[slot]]:
                         states[slot] = CROSS
             continue
@@ -409,13 +409,16 @@ def _land_by_bottom_edge(plan, runs, states, members):
             state = THIN
         else:
             state = PRESENT if length <= high else DOUBLE
-        if rank[state] > rank[states[slot]]:
-            states[slot] = state
         held = members[slot]
         if held is None:
-            members[slot] = [index]
+            # The slot's first run: no run landed in it, so it is still EMPTY (as map_slots
+            # makes it), which every state here outranks.
+            members[slot] = (index,)
+            states[slot] = state
         else:
-            held.append(index)
+            members[slot] = held + (index,)
+            if rank[state] > rank[states[slot]]:
+                states[slot] = state
             # A second run in a slot is not a normally inserted wafer.
             if error_rank > rank[states[slot]]:
                 states[slot] = POSITION_ERROR

@@ -351,9 +351,8 @@ def analytic_engine(layout, progress=None):
     if scan.final_z < scan.start_z:
         raise ValueError("final_z is below start_z")
     if not scan.exact:
-        steps, present = _stepped_steps(layout)
-        # runs_from_intervals(steps): only the wafers with steps make runs
-        return StepHits(scan.position_count, steps, _merged_runs(present))
+        steps, runs, _ = _stepped_steps(layout)
+        return StepHits(scan.position_count, steps, runs)
     wafers = layout.wafers
     edges = [None] * len(wafers)
     level_scan = layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0
@@ -390,10 +389,31 @@ def analytic_engine(layout, progress=None):
     return StepHits(scan.position_count, steps, runs_from_intervals(steps))
 
 
-def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
+def analytic_stepped(layout, circle):
+    """``analytic_engine(layout)`` of a stepped scan (z_step > 0), and from the same pass over
+    the wafers the carrier's wafers with their protrusions, as
+    ``scan_result.carrier_protrusions`` gives them (``circle``: its ``carrier_circle``), or
+    None where the pass cannot tell them (a tilted wafer, a scan that is not level: the caller
+    asks ``carrier_protrusions`` then). Returns (StepHits, the carrier's wafers or None).
+
+    A scan walks the layout's wafers for the beam and again for the carrier's protrusion check
+    (SPEC §4); a fab's 75 wafers of the other carriers cost each pass its own steps of Python.
+    The hits are ``analytic_engine``'s: the same function of the same values
+    (tests/core/test_fab_shared_pass.py checks both answers against their definitions)."""
+    scan = layout.scan
+    if scan.final_z < scan.start_z:
+        raise ValueError("final_z is below start_z")
+    steps, runs, inside = _stepped_steps(layout, circle)
+    return StepHits(scan.position_count, steps, runs), inside
+
+
+def _stepped_steps(layout, circle=None, tol=TOUCH_TOLERANCE):
     """``analytic_engine``'s stepped intervals (z_step > 0), one per wafer of the layout, None
-    where the beam misses it or ``reachable_wafers`` leaves it out, and the list of those not
-    None (in no particular order: the runs' merge sorts them).
+    where the beam misses it or ``reachable_wafers`` leaves it out, and the runs they make
+    (``runs_from_intervals`` of them: only the wafers with steps make runs). Where the level
+    loop met the wafers in ascending order and apart (each one's first step beyond the last
+    one's last step + 1: a fab's seated wafers), the merge would sort nothing and join nothing:
+    the runs are those intervals themselves, the same pairs.
 
     In a level scan (lift along Z, the beam level) one loop over the wafers does, for a level
     wafer, what ``reachable_wafers`` (``accessible_wafers``' level branch, over the scan's
@@ -402,13 +422,22 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
     tests/core/test_fab_floor.py; each against its definition in tests/core/test_fixed_cost.py,
     the engine against ``loop`` in tests/core/test_engines.py). A tilted wafer takes
     ``accessible_wafers`` itself, a bowed one the general edges, edges near a grid position
-    ``snap_to_grid``, as before."""
+    ``snap_to_grid``, as before.
+
+    ``circle``, when given (``scan_result.carrier_circle`` of a carrier), the loop also does
+    ``carrier_protrusions``' pass: a level wafer's answer in X and Y (inside the carrier's
+    circle, and its protrusion) is the circle's, taken once for the wafers that share their
+    objects as the beam's answers are (the two passes made the same groups), and its Z test
+    reads the mid-plane height ``mid_z`` that the beam's Z test computes, the same sum
+    (cz + thickness / 2.0). Returns (steps, runs, the carrier's [(wafer, protrusion)] in the
+    layout's order), the last None without a circle, in a scan that is not level, or when a
+    tilted wafer (whose protrusion is the general one's) was met."""
     wafers = layout.wafers
     steps = [None] * len(wafers)
     present = []
     if not (layout.lift_axis == (0.0, 0.0, 1.0) and layout.beam.direction[2] == 0.0):
         _snapped(layout, reachable_wafers(layout), steps, present)
-        return tuple(steps), present
+        return tuple(steps), _merged_runs(present), None
     scan = layout.scan
     # reachable_wafers: accessible_wafers' values of the beam swept over the scan
     reach = sweep_reach(layout, scan.start_z, scan.final_z)
@@ -424,50 +453,66 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
     qq = ex * ex + ey * ey
     past_end = layout.beam.length + tol
     tilted = []  # the wafers that are not level, for accessible_wafers after the loop
+    # carrier_protrusions' values of the carrier (unused without a circle: amount stays None)
+    amount_of, z_lo, z_hi = (None, None, None) if circle is None else circle
+    inside = []
     # The last level wafer's normal, centre X and Y and diameter (the objects), whether it
-    # passed accessible_wafers' XY test (``near``) and whether the beam's line crosses its rim
-    # within the beam (``crossed``), which depend on these alone: the next wafer with the same
+    # passed accessible_wafers' XY test (``near``), whether the beam's line crosses its rim
+    # within the beam (``crossed``) and its protrusion when inside the carrier's circle
+    # (``amount``, else None), which depend on these alone: the next wafer with the same
     # objects (a carrier's seated wafers, made from the carrier's numbers), so the same numbers
-    # bit for bit, takes both answers without their arithmetic.
+    # bit for bit, takes the answers without their arithmetic. ``keep``: near or inside.
     same_normal = same_x = same_y = same_diameter = None
-    near = crossed = False
+    near = crossed = keep = False
+    amount = None
+    apart, last = True, -2  # whether the intervals so far ascend apart; the last one's end
     for i, wafer in enumerate(wafers):
         (cx, cy, cz), normal, diameter = wafer.center, wafer.normal, wafer.diameter
         if normal is same_normal and cx is same_x and cy is same_y and diameter is same_diameter:
-            if not near:
+            if not keep:
                 continue
         elif normal == LEVEL:
             same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
-            # accessible_wafers' XY test of a level wafer
+            # accessible_wafers' XY test of a level wafer, and carrier_protrusions'
             near = level_near(reach, cx, cy, diameter)
-            if not near:
+            amount = None if amount_of is None else amount_of(cx, cy, diameter)
+            keep = near or amount is not None
+            if not keep:
                 continue
-            # level_edger's rim: where the beam's line is within it (rim_span), and whether
-            # that meets the beam
-            wx, wy = ox - cx, oy - cy
-            r = diameter / 2.0 + tol
-            c = wx * wx + wy * wy - r * r
-            if qq == 0.0:
-                crossed = not c > 0.0
-                low, high = -inf, inf
-            else:
-                pq = wx * ex + wy * ey + 0.0
-                disc = pq * pq - qq * c
-                crossed = not disc < 0.0
-                if crossed:
-                    root = -pq - copysign(sqrt(disc), pq)  # rim_roots
-                    r1 = root / qq
-                    r2 = c / root if root != 0.0 else 0.0
-                    low, high = (r1, r2) if r1 <= r2 else (r2, r1)
-            crossed = crossed and not (high < -tol or low > past_end)
+            if near:
+                # level_edger's rim: where the beam's line is within it (rim_span), and
+                # whether that meets the beam
+                wx, wy = ox - cx, oy - cy
+                r = diameter / 2.0 + tol
+                c = wx * wx + wy * wy - r * r
+                if qq == 0.0:
+                    crossed = not c > 0.0
+                    low, high = -inf, inf
+                else:
+                    pq = wx * ex + wy * ey + 0.0
+                    disc = pq * pq - qq * c
+                    crossed = not disc < 0.0
+                    if crossed:
+                        root = -pq - copysign(sqrt(disc), pq)  # rim_roots
+                        r1 = root / qq
+                        r2 = c / root if root != 0.0 else 0.0
+                        low, high = (r1, r2) if r1 <= r2 else (r2, r1)
+                crossed = crossed and not (high < -tol or low > past_end)
         else:
             tilted.append(i)
+            continue
+        thickness = wafer.thickness
+        mid_z = cz + thickness / 2.0
+        # carrier_protrusions' Z test of a level wafer inside the circle: n = (0, 0, 1), its
+        # mid-plane at cz + thickness / 2.0 * 1 = mid_z
+        if amount is not None and z_lo <= mid_z <= z_hi:
+            inside.append((wafer, amount))
+        if not near:
             continue
         # accessible_wafers' Z test of a level wafer. Its mid-plane within the scan's range
         # passes it: subtracting (adding) half_z >= 0 and margin >= 0 gives no more (no less)
         # than mid_z, rounding being monotonic.
-        thickness, bow = wafer.thickness, wafer.bow
-        mid_z = cz + thickness / 2.0
+        bow = wafer.bow
         if not (z_bottom <= mid_z <= z_top and thickness >= 0.0):
             half_z = 0.5 * thickness + abs(bow)
             if z_top < (mid_z - half_z) - margin or z_bottom > (mid_z + half_z) + margin:
@@ -504,18 +549,33 @@ def _stepped_steps(layout, tol=TOUCH_TOLERANCE):
                         lo = 0
                     if hi > last_k:
                         hi = last_k
-                    found = (lo, hi) if lo <= hi else None
+                    if lo <= hi:  # settled, as most are: taken as below, without its tests
+                        steps[i] = found = (lo, hi)
+                        present.append(found)
+                        if lo > last + 1:
+                            last = hi
+                        else:
+                            apart = False
+                        continue
+                    found = None
             found = found or snap_to_grid(layout, wafer, (e0, e1))
         if found is not None:
             steps[i] = found
             present.append(found)
+            if found[0] > last + 1:
+                last = found[1]
+            else:
+                apart = False
     if tilted:
         # reachable_wafers' answer for them: accessible_wafers' general test (one wafer's
         # answer does not depend on the others)
         reached = accessible_wafers(layout, [wafers[i] for i in tilted], scan.start_z,
                                     scan.final_z)
         _snapped(layout, [tilted[j] for j in reached], steps, present)
-    return tuple(steps), present
+        apart = False  # (they come last, in any order)
+        inside = None  # its protrusion, in its place among the others: carrier_protrusions'
+    return (tuple(steps), tuple(present) if apart else _merged_runs(present),
+            None if circle is None else inside)
 
 
 def _snapped(layout, indices, steps, present):

@@ -18,10 +18,12 @@ from contextlib import contextmanager
 from ..mapping import POSITION_ERROR, map_slots, two_run_warnings, unscanned_slots
 from ..model import SLOW, UP
 from . import slow_scan
-from .engines import ExactHits, run_engine
+from .engines import ENGINES, ExactHits, analytic_engine, analytic_stepped, run_engine
 from .scan_result import (
     ScanResult,
     SensorRun,
+    _stepped_records,
+    carrier_circle,
     exact_intervals,
     latcher,
     missed_by_beam,
@@ -33,7 +35,6 @@ from .scan_result import (
     scanned_range,
     slot_plan,
     stepped_intervals,
-    stepped_records,
     wafer_records,
 )
 
@@ -107,14 +108,22 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
     carrier = layout.scanned_carrier
     plan = slot_plan(carrier, layout.mapping)
     stepping = slow_scan.stepping_layout(layout)  # with a jab, the fork in (SPEC §13)
-    hits = run_engine(engine, stepping, progress) if stepper is None else \
-        stepper(stepping, progress)
+    inside = None  # the carrier's wafers and protrusions, when the engine's pass found them
+    if stepper is not None:
+        hits = stepper(stepping, progress)
+    elif not scan.exact and ENGINES.get(engine) is analytic_engine:
+        # its pass over the wafers does carrier_protrusions' too (the same wafers: stepping is
+        # the layout, or it with another beam)
+        hits, inside = analytic_stepped(stepping, carrier_circle(carrier))
+    else:
+        hits = run_engine(engine, stepping, progress)
     window = pocket_window(plan) if scan.mode == SLOW else None
     # Whether the runs' ends are grid positions start_z + k z_step (k >= 0, z_step > 0): never
     # -0.0, since a sum is -0.0 only where both its terms are, and k z_step is not
     on_grid = False
     if window is None and not isinstance(hits, ExactHits):
-        run_spans, wafers, run_names = stepped_records(hits, scan, layout.wafers)
+        run_spans, wafers, run_names, bottoms, tops = _stepped_records(hits, scan,
+                                                                       layout.wafers)
         wafer_spans = hits.wafer_steps  # None where the scan never met a wafer, as its span
         on_grid = True
     else:
@@ -125,12 +134,15 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
         wafers = wafer_records(layout.wafers, wafer_spans)
         run_names = run_wafers(run_spans, layout.wafers, wafer_spans)
     lag = scan.latch_lag
+    runs = None
     if scan.mode == SLOW or scan.direction == UP:
         # latcher's (bottom + lag, top + lag), without its call a run; bottom <= top stays so
         # (rounding is monotonic), so these are also the runs' (bottom, top) below. Without a
         # lag they are the spans themselves: z + 0.0 is z, bit for bit, but for z = -0.0.
         if lag == 0.0 and on_grid:
             latched = spans = run_spans
+            # each run's (z_in, z_out) is its span's (bottom, top): the runs made at once
+            runs = tuple(map(SensorRun, bottoms, tops, run_names, run_spans))
         else:
             latched = spans = [(bottom + lag, top + lag) for bottom, top in run_spans]
     else:
@@ -139,9 +151,10 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
         # (run.bottom, run.top) of each run, from its latched pair without the properties' calls
         spans = [(z_in, z_out) if z_in <= z_out else (z_out, z_in)  # min, max
                  for z_in, z_out in latched]
-    runs = [SensorRun(z_in, z_out, names, span)
-            for (z_in, z_out), span, names in zip(latched, run_spans, run_names)]
-    flagged, protrusions = protruding_slots(carrier, plan, layout.wafers)
+    if runs is None:
+        runs = tuple([SensorRun(z_in, z_out, names, span)
+                      for (z_in, z_out), span, names in zip(latched, run_spans, run_names)])
+    flagged, protrusions = protruding_slots(carrier, plan, layout.wafers, inside)
     # The range the scan was set to cover; between its stepped positions, as everywhere on the
     # grid, the beam is sampled a step apart.
     scanned = (scan.start_z, scan.final_z)
@@ -177,5 +190,5 @@ def _scan_layout(layout, engine, progress, stepper, measure, ray_ranges, turn_li
     warnings = scan_warnings(layout, plan, run_spans, scanned, unscanned,
                              scanned_range(scan, window)) + tuple(probe_warnings) + \
         missed_by_beam(layout, stepping.beam, wafer_spans)
-    return ScanResult(layout, engine, plan, tuple(runs), wafers, slot_map, protrusions, warnings,
+    return ScanResult(layout, engine, plan, runs, wafers, slot_map, protrusions, warnings,
                       pockets=pockets)

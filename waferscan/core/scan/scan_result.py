@@ -7,15 +7,14 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left, bisect_right
-from dataclasses import dataclass
-from itertools import compress, repeat
-from operator import attrgetter, is_
+from dataclasses import dataclass, fields
+from itertools import compress, islice, repeat
+from operator import attrgetter, gt, is_, itemgetter, le, lt
 
 from ..geometry.beam import LEVEL, PRE_REJECT_SLACK, wafer_bounds
 from ..geometry.ranges import translation_range
 from ..mapping import LIMIT_SLACK, STATE_NAMES, UNSCANNED, SlotPlan
 from ..model import DOWN, SLOW, UP, UPDOWN
-from ..recipe import recipe_fields
 from .engines import reachable_wafers
 
 
@@ -125,18 +124,21 @@ class ScanResult:
         return rows
 
 
+# SlotPlan's fields after its first seven (the carrier's and SPEC §4's tolerances) are the
+# recipe's keys (SPEC §11, recipe.RECIPE_KEYS: tests/core/test_fab_shared_pass.py), read off the
+# layout's mapping by these names at once and given in this order.
+_recipe_values = attrgetter(*[f.name for f in fields(SlotPlan)][7:])
+
+
 def slot_plan(carrier, mapping):
-    """The nominal slots of a carrier with the layout's mapping tolerances."""
-    return SlotPlan(
-        slot_count=carrier.slot_count,
-        pitch=carrier.pitch,
-        first_slot_z=carrier.first_slot_z,
-        wafer_thickness=carrier.wafer_thickness,
-        thickness_tolerance=mapping.thickness_tolerance_for(carrier.wafer_thickness),
-        position_tolerance=mapping.position_tolerance,
-        protrusion_limit=mapping.protrusion_limit,
-        **recipe_fields(mapping),  # SPEC §11
-    )
+    """The nominal slots of a carrier with the layout's mapping tolerances and recipe (SPEC
+    §11): the fields given in their order, the recipe's as ``recipe_fields(mapping)`` names
+    them (its dict and a call by keywords cost nearly as much as the plan itself)."""
+    return SlotPlan(carrier.slot_count, carrier.pitch, carrier.first_slot_z,
+                    carrier.wafer_thickness,
+                    mapping.thickness_tolerance_for(carrier.wafer_thickness),
+                    mapping.position_tolerance, mapping.protrusion_limit,
+                    *_recipe_values(mapping))
 
 
 def pocket_window(plan):
@@ -173,6 +175,9 @@ def stepped_intervals(hits, scan, window):
             [None if w is None else span(w) for w in hits.wafer_steps])
 
 
+_name = attrgetter("name")
+
+
 def stepped_records(hits, scan, wafers):
     """What a stepped scan without a window (fast mode) makes of an engine's ``StepHits``: the
     run spans as ``stepped_intervals(hits, scan, None)`` gives them, each wafer's
@@ -183,28 +188,45 @@ def stepped_records(hits, scan, wafers):
     over a fab's 100 wafers were a sixth of its scan_layout. The same values
     (tests/core/test_fab_floor.py checks them against the three, tests/core/test_fab_fast_paths.py
     the whole scan). The wafer spans themselves are not made: a wafer's is None where its
-    steps (``hits.wafer_steps``) are."""
+    steps (``hits.wafer_steps``) are.
+
+    Where each run is one met wafer's steps, in the layout's order (a fab's level wafers, each
+    seated apart from the next), and the spans are in order along Z (each run's bottom <= its
+    top < the next run's bottom: rounding keeps them so, unless a step is lost to it), each run
+    names its own wafer alone, without the bisections: the wafer's span is the run's (the same
+    steps, the same sums), which meets no other run (tests/core/test_fab_shared_pass.py)."""
+    return _stepped_records(hits, scan, wafers)[:3]
+
+
+def _stepped_records(hits, scan, wafers):
+    """``stepped_records``, and the runs' bottoms and tops as lists (each run's (z_in, z_out)
+    in an up stroke without a latch lag: ``SensorRun``s made from them at once)."""
     start, step = scan.start_z, scan.z_step
-    run_spans = [(start + first * step, start + last * step) for first, last in hits.runs]
+    runs = hits.runs
+    run_spans = [(start + first * step, start + last * step) for first, last in runs]
     bottoms = [bottom for bottom, _ in run_spans]
-    if bottoms != sorted(bottoms):  # not as an engine gives them: run_wafers reorders them
-        _, wafer_spans = stepped_intervals(hits, scan, None)
-        return (run_spans, wafer_records(wafers, wafer_spans),
-                run_wafers(run_spans, wafers, wafer_spans))
     tops = [top for _, top in run_spans]
-    names = [[] for _ in run_spans]
     steps = hits.wafer_steps
     interval = WaferInterval
     records = tuple([interval(wafer.name) if k is None else
                      interval(wafer.name, start + k[0] * step, start + k[1] * step)
                      for wafer, k in zip(wafers, steps)])
+    if tuple(compress(steps, steps)) == runs and all(map(le, bottoms, tops)) and \
+            all(map(lt, tops, islice(bottoms, 1, None))):  # tops[j] < bottoms[j + 1]
+        # (zip of one iterable: each name in a tuple of its own)
+        return run_spans, records, list(zip(map(_name, compress(wafers, steps)))), bottoms, tops
+    if bottoms != sorted(bottoms):  # not as an engine gives them: run_wafers reorders them
+        _, wafer_spans = stepped_intervals(hits, scan, None)
+        return (run_spans, records, run_wafers(run_spans, wafers, wafer_spans), bottoms,
+                tops)
+    names = [[] for _ in run_spans]
     for record in compress(records, steps):  # the records whose steps are not None
         # run_wafers: the runs with top >= z_in and bottom <= z_out (bisect_right from the
         # first of them on: the same end where there is one, an empty range where none)
         first = bisect_left(tops, record.z_in)
         for j in range(first, bisect_right(bottoms, record.z_out, first)):
             names[j].append(record.name)
-    return run_spans, records, [tuple(n) for n in names]
+    return run_spans, records, [tuple(n) for n in names], bottoms, tops
 
 
 def wafer_records(wafers, wafer_spans):
@@ -317,24 +339,48 @@ def carrier_wafers(carrier, wafers):
     return (wafer for wafer, _ in carrier_protrusions(carrier, wafers))
 
 
+def carrier_circle(carrier):
+    """``carrier_protrusions``' test of a level wafer in X and Y for one carrier, with the
+    carrier's values read once: (amount, z_lo, z_hi), ``amount(cx, cy, diameter)`` the
+    protrusion of a level wafer centred at (cx, cy) when it lies inside the carrier's circle,
+    else None; such a wafer is the carrier's when its mid-plane's height lies in [z_lo, z_hi].
+    (The analytic engine's pass over the wafers asks it too: ``engines.analytic_stepped``.)"""
+    r = 0.5 * carrier.wafer_diameter
+    ox, oy = carrier.center
+    fx, fy = carrier.front
+    hypot = math.hypot
+    wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
+
+    def amount(cx, cy, diameter):
+        # A level wafer of another carrier, left out by X or Y alone (most of a fab's)
+        if cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide:
+            return None
+        dx, dy = cx - ox, cy - oy
+        if not hypot(dx, dy) < r:
+            return None
+        # front_reach of a level wafer: R·sqrt(1 - 0²) = R, nothing from its thickness
+        return dx * fx + dy * fy + diameter / 2.0 - r
+
+    return (amount, carrier.seat_z(1) - carrier.pitch,
+            carrier.seat_z(carrier.slot_count) + carrier.pitch)
+
+
 def carrier_protrusions(carrier, wafers):
     """[(wafer, ``protrusion(carrier, wafer)``)] for each wafer inside the carrier's footprint and
     slot range: one pass with the carrier's values read once, as this runs for every wafer of a
     fab at every scan. Which wafers are the carrier's is judged by ``wafer.mid_center``; it and
     ``protrusion``'s sums are written out term for term (the same floats;
-    tests/core/test_fixed_cost.py), without a level wafer's zero terms;
+    tests/core/test_fixed_cost.py), without a level wafer's zero terms (``carrier_circle``);
     a level wafer further from the carrier's centre in X or Y alone than the circle is left out
     first (most of a fab's wafers lie in other carriers), and one that shares its X, Y and
     diameter with the level wafer before takes that one's answer in XY
     (tests/core/test_fab_fast_paths.py, on stacks that share them)."""
     r = 0.5 * carrier.wafer_diameter
-    z_lo = carrier.seat_z(1) - carrier.pitch
-    z_hi = carrier.seat_z(carrier.slot_count) + carrier.pitch
+    level_amount, z_lo, z_hi = carrier_circle(carrier)
     ox, oy = carrier.center
     fx, fy = carrier.front
     hypot = math.hypot
     found = []
-    wide = r + PRE_REJECT_SLACK  # a level wafer further off in X or Y alone is outside
     # The last level wafer's normal, centre X and Y and diameter (the objects) and what its XY
     # said (``amount``: its protrusion when inside the circle, else None), which depends on
     # these alone: the next wafer with the same objects (a carrier's seated wafers), so the
@@ -348,15 +394,9 @@ def carrier_protrusions(carrier, wafers):
                 continue
         elif normal == LEVEL:
             same_normal, same_x, same_y, same_diameter = normal, cx, cy, diameter
-            amount = None
-            # A level wafer of another carrier, left out by X or Y alone (most of a fab's)
-            if cx - ox > wide or ox - cx > wide or cy - oy > wide or oy - cy > wide:
+            amount = level_amount(cx, cy, diameter)
+            if amount is None:
                 continue
-            dx, dy = cx - ox, cy - oy
-            if not hypot(dx, dy) < r:
-                continue
-            # front_reach of a level wafer: R·sqrt(1 - 0²) = R, nothing from its thickness
-            amount = dx * fx + dy * fy + diameter / 2.0 - r
         else:
             h = wafer.thickness / 2.0
             nx, ny, nz = normal
@@ -379,13 +419,17 @@ def carrier_protrusions(carrier, wafers):
     return found
 
 
-def protruding_slots(carrier, plan, wafers):
+_second = itemgetter(1)
+
+
+def protruding_slots(carrier, plan, wafers, inside=None):
     """Slots holding a wafer that sticks out beyond the protrusion limit, and every such wafer's
     protrusion. Models a load port's protrusion sensor across the carrier's opening: it sees the
     front edge alone, so a wafer is flagged however it is seated (SPEC §4). The slot it occupies
     is the one whose seat is nearest its bottom edge, and every slot whose seat its Z extent
-    spans (a tilted, cross-slotted wafer occupies both of its slots)."""
-    by_slot, found = protrusions_by_slot(carrier, plan, wafers)
+    spans (a tilted, cross-slotted wafer occupies both of its slots). ``inside``: the
+    carrier's ``carrier_protrusions(carrier, wafers)`` when found already (None: found here)."""
+    by_slot, found = protrusions_by_slot(carrier, plan, wafers, inside)
     return sorted(by_slot), found
 
 
@@ -438,23 +482,24 @@ def protruding_rows(carrier, plan, m, owner, center, normal, thickness, bow):
     return out
 
 
-def protrusions_by_slot(carrier, plan, wafers):
+def protrusions_by_slot(carrier, plan, wafers, inside=None):
     """({slot: [(wafer name, protrusion mm), …]} for the slots ``protruding_slots`` flags, and
     every carrier wafer's (name, protrusion)): which wafers make a slot protrude, and by how
-    much, for the words of a finding."""
+    much, for the words of a finding. ``inside``: as ``protruding_slots`` takes it."""
     by_slot = {}
     limit = plan.protrusion_limit
-    inside = carrier_protrusions(carrier, wafers)
+    if inside is None:
+        inside = carrier_protrusions(carrier, wafers)
     found = tuple([(wafer.name, amount) for wafer, amount in inside])
-    for wafer, amount in inside:
-        if amount > limit:
-            (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
-            slots = {plan.nearest_slot(z0)}
-            for slot in range(1, plan.slot_count + 1):
-                if z0 <= plan.seat_z(slot) <= z1:
-                    slots.add(slot)
-            for slot in slots:
-                by_slot.setdefault(slot, []).append((wafer.name, amount))
+    # those with amount > limit (compress: the others without a step of Python each)
+    for wafer, amount in compress(inside, map(gt, map(_second, inside), repeat(limit))):
+        (_, _, z0), (_, _, z1) = wafer_bounds(wafer)
+        slots = {plan.nearest_slot(z0)}
+        for slot in range(1, plan.slot_count + 1):
+            if z0 <= plan.seat_z(slot) <= z1:
+                slots.add(slot)
+        for slot in slots:
+            by_slot.setdefault(slot, []).append((wafer.name, amount))
     return by_slot, found
 
 
@@ -561,12 +606,13 @@ def missed_by_beam(layout, beam, wafer_spans):
     # The wafers the scan never met (compress: those whose span is None), and whether any is
     # the scanned carrier's or a free one: by their carriers' names, without a step of Python
     # a wafer (in a fab, the other carriers' wafers are most and all unmet)
-    unmet = list(compress(layout.wafers, map(is_, wafer_spans, repeat(None))))
+    unmet = compress(layout.wafers, map(is_, wafer_spans, repeat(None)))
     unmet_carriers = set(map(_carrier, unmet))
     if carrier not in unmet_carriers and None not in unmet_carriers:
         return ()
     # those, in the layout's order
-    unmet = [wafer for wafer in unmet if wafer.carrier in mine]
+    unmet = [wafer for wafer, span in zip(layout.wafers, wafer_spans)
+             if span is None and wafer.carrier in mine]
     missed = [(wafer.name, beam_miss(beam, layout.lift_axis, wafer)) for wafer in unmet
               if translation_range(beam.emitter, beam, layout.lift_axis, wafer) is None]
     if not missed:
