@@ -279,3 +279,22 @@ def test_scan_layout_on_level_layouts_is_itself_through_the_general_paths():
                 _fields(scan_layout(scanned, "analytic", stepper=_general)), name
             compared += 1
     assert compared > 1500
+
+
+def test_a_stepper_off_the_contract_is_named_by_the_bisections():
+    # A second reader's cases: a stepper whose runs are an array, or whose steps have an entry
+    # past the layout's wafers, takes the bisections as before (every run kept, the last one
+    # naming no wafer; no array's ambiguous truth).
+    import numpy as np
+
+    fab = fab_layout(paper_layout(PAPER), foups=2, z_step=0.05)
+    hits = analytic_engine(fab)
+    extra = hits.wafer_steps + ((hits.count - 3, hits.count - 1),)
+    longer = scan_layout(fab, "analytic", stepper=lambda layout, progress=None: replace(
+        hits, wafer_steps=extra, runs=runs_from_intervals(extra)))
+    assert len(longer.runs) == len(hits.runs) + 1 and longer.runs[-1].wafers == ()
+    assert [r.wafers for r in longer.runs[:-1]] == \
+        [r.wafers for r in scan_layout(fab, "analytic").runs]
+    as_array = scan_layout(fab, "analytic", stepper=lambda layout, progress=None: replace(
+        hits, runs=np.array(hits.runs)))
+    assert as_array.code == scan_layout(fab, "analytic").code

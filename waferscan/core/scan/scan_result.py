@@ -211,7 +211,10 @@ def _stepped_records(hits, scan, wafers):
     records = tuple([interval(wafer.name) if k is None else
                      interval(wafer.name, start + k[0] * step, start + k[1] * step)
                      for wafer, k in zip(wafers, steps)])
-    if tuple(compress(steps, steps)) == runs and all(map(le, bottoms, tops)) and \
+    # (A stepper's runs as a tuple and its steps one per wafer, as StepHits says: else, as
+    # before, the bisections; a second reader's catch.)
+    if type(runs) is tuple and len(steps) == len(wafers) and \
+            tuple(compress(steps, steps)) == runs and all(map(le, bottoms, tops)) and \
             all(map(lt, tops, islice(bottoms, 1, None))):  # tops[j] < bottoms[j + 1]
         # (zip of one iterable: each name in a tuple of its own)
         return run_spans, records, list(zip(map(_name, compress(wafers, steps)))), bottoms, tops
