@@ -23,7 +23,7 @@ import random
 from dataclasses import replace
 
 import pytest
-from random_layouts import random_layout
+from random_layouts import random_layout, shared_stacks
 from scenarios import PAPER, fab_with
 
 from waferscan.bench.workloads import fab_layout, paper_layout, stack_layout
@@ -39,7 +39,6 @@ from waferscan.core.mapping import (
     two_run_warnings,
     unscanned_slots,
 )
-from waferscan.core.model import Beam, Carrier, Layout, ScanParameters, Wafer, unit
 from waferscan.core.scan.engines import (
     StepHits,
     analytic_engine,
@@ -176,75 +175,6 @@ def canon(result):
 
 
 # --- stacks that share their numbers' objects, at every boundary -----------------------------
-
-HAIRS = (0.0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-8, -1e-8, 1.1e-8, -1.1e-8, 1e-6, -1e-6, 3e-6)
-
-
-def shared_stacks(rng):
-    """A level scan and wafers in stacks whose members share their centre's X and Y and their
-    diameter (the objects), the stacks interleaved: at the beam's box, the beam's ends, grazing
-    the rim, at the carrier's circle, and inside, and stacks that share some of these objects
-    with another; members above, inside and below the scan's range, some bowed, some tilted
-    (sharing the stack's X and Y too)."""
-    heading = rng.uniform(-math.pi, math.pi)
-    direction = rng.choice([(math.cos(heading), math.sin(heading), 0.0), (1.0, 0.0, 0.0),
-                            (0.0, -1.0, 0.0)])
-    length = rng.choice([160.0, rng.uniform(1.0, 400.0)])
-    emitter = (rng.uniform(-100, 100), rng.uniform(150, 300), 280.0)
-    start, final = 280.0, 280.0 + rng.choice([30.0, 270.0])
-    carrier = Carrier("C1", 25, 10.0, 290.0, (rng.uniform(-50, 50), 400.0 + rng.uniform(-50, 50)),
-                      300.0, 0.775, front=unit((rng.uniform(-0.3, 0.3), -1.0, 0.0))[:2])
-    ex, ey, _ = direction
-    ends = [emitter[:2], (emitter[0] + length * ex, emitter[1] + length * ey)]
-    stacks = []
-    for _ in range(rng.randint(3, 8)):
-        diameter = rng.choice([300.0, 200.0, rng.uniform(1.0, 450.0)])
-        r = diameter / 2.0
-        hair = rng.choice(HAIRS)
-        where = rng.choice(["box", "end", "rim", "circle", "inside"])
-        if where == "box":  # beside an end, off along X or Y by its reach (+ the check's 1e-8)
-            x, y = rng.choice(ends)
-            off = r + 1e-8 + 1e-6 * rng.choice([0, 1]) + hair
-            dx, dy = rng.choice([(off, 0.0), (-off, 0.0), (0.0, off), (0.0, -off)])
-            x, y = x + dx, y + dy
-        elif where == "end":  # beyond an end, along the beam
-            (x, y), sign = rng.choice([(ends[0], -1.0), (ends[1], 1.0)])
-            x, y = x + sign * (r + hair) * ex, y + sign * (r + hair) * ey
-        elif where == "rim":  # beside the beam's middle, by its radius (+ the touch tolerance)
-            side = r + rng.choice([0.0, 1e-9]) + hair
-            x = emitter[0] + 0.5 * length * ex - ey * side
-            y = emitter[1] + 0.5 * length * ey + ex * side
-        elif where == "circle":  # at the carrier's circle, along X or Y
-            off = 150.0 + rng.choice([0.0, 1e-6]) + hair
-            dx, dy = rng.choice([(off, 0.0), (-off, 0.0), (0.0, off), (0.0, -off)])
-            x, y = carrier.center[0] + dx, carrier.center[1] + dy
-        else:
-            x, y = carrier.center[0] + rng.uniform(-3, 3), carrier.center[1] + rng.uniform(-3, 3)
-        stacks.append((float(x), float(y), float(diameter)))
-    # stacks that share some of another's objects (its X, its Y or its diameter), not all
-    for _ in range(rng.randint(1, 4)):
-        x, y, diameter = rng.choice(stacks)
-        other = rng.choice(["x", "y", "diameter"])
-        if other == "x":
-            x = float(x + rng.choice([1e-9, 20.0, -0.5]))
-        elif other == "y":
-            y = float(y + rng.choice([1e-9, 20.0, -0.5]))
-        else:
-            diameter = float(diameter + rng.choice([1e-9, 40.0, -0.5]))
-        stacks.append((x, y, diameter))
-    tilted = unit((0.02, -0.01, 1.0))
-    wafers = []
-    for k in range(rng.randint(10, 60)):
-        x, y, diameter = rng.choice(stacks)
-        z = rng.choice([rng.uniform(start - 3.0, final + 3.0), start - 1.0, final + 0.5,
-                        290.0 + 10.0 * rng.randint(0, 24)])
-        normal = tilted if rng.random() < 0.1 else LEVEL
-        bow = rng.choice([0.0] * 8 + [0.05, -0.05])
-        wafers.append(Wafer(f"W{k}", (x, y, z), normal, diameter, rng.choice([0.775, 0.3, 1.5]),
-                            rng.choice(["C1", "C1", None, "C2"]), bow=bow))
-    scan = ScanParameters(start, final, rng.choice([0.05, 0.013, 0.001, 0.5]))
-    return Layout((carrier,), tuple(wafers), Beam(emitter, direction, length), scan)
-
 
 def test_shared_numbers_change_no_answer_of_the_accessibility_check():
     kept = dropped = 0

@@ -23,20 +23,12 @@ import random
 from dataclasses import fields, replace
 from itertools import compress
 
-from random_layouts import random_layout
+from random_layouts import random_layout, shared_stacks
 from scenarios import PAPER, fab_with
 
 from waferscan.bench.workloads import fab_layout, paper_layout, stack_layout
 from waferscan.core.mapping import EMPTY, SlotPlan, judge_run, map_slots
-from waferscan.core.model import (
-    Beam,
-    Carrier,
-    Layout,
-    MappingTolerances,
-    ScanParameters,
-    Wafer,
-    unit,
-)
+from waferscan.core.model import MappingTolerances, ScanParameters, Wafer
 from waferscan.core.recipe import RECIPE_KEYS, recipe_fields
 from waferscan.core.scan.engines import (
     StepHits,
@@ -69,51 +61,6 @@ def level_only(layout):
                    wafers=tuple(w for w in layout.wafers if w.normal == LEVEL))
 
 
-def shared_stacks(rng):
-    """Level wafers in stacks that share their centre's X and Y and their diameter (the
-    objects), interleaved: beside the beam, at its ends and at the carrier's circle (a hair
-    either side), inside the carrier; above, inside and below the scan's range; some bowed,
-    some (``tilted``) tilted, with the stacks' X and Y."""
-    heading = rng.uniform(-math.pi, math.pi)
-    direction = rng.choice([(math.cos(heading), math.sin(heading), 0.0), (1.0, 0.0, 0.0)])
-    length = rng.choice([160.0, rng.uniform(1.0, 400.0)])
-    emitter = (rng.uniform(-100, 100), rng.uniform(150, 300), 280.0)
-    start, final = 280.0, 280.0 + rng.choice([30.0, 270.0])
-    carrier = Carrier("C1", 25, 10.0, 290.0, (rng.uniform(-50, 50), 400.0 + rng.uniform(-50, 50)),
-                      300.0, 0.775, front=unit((rng.uniform(-0.3, 0.3), -1.0, 0.0))[:2])
-    ex, ey, _ = direction
-    stacks = []
-    for _ in range(rng.randint(3, 8)):
-        diameter = rng.choice([300.0, 200.0, rng.uniform(1.0, 450.0)])
-        hair = rng.choice([0.0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-6, -1e-6])
-        where = rng.choice(["rim", "end", "circle", "inside", "inside"])
-        if where == "rim":  # beside the beam's middle, by its radius
-            side = diameter / 2.0 + hair
-            x = emitter[0] + 0.5 * length * ex - ey * side
-            y = emitter[1] + 0.5 * length * ey + ex * side
-        elif where == "end":  # beyond its far end, along it
-            x = emitter[0] + (length + diameter / 2.0 + hair) * ex
-            y = emitter[1] + (length + diameter / 2.0 + hair) * ey
-        elif where == "circle":  # at the carrier's circle, along X or Y
-            off = 150.0 + hair
-            dx, dy = rng.choice([(off, 0.0), (-off, 0.0), (0.0, off), (0.0, -off)])
-            x, y = carrier.center[0] + dx, carrier.center[1] + dy
-        else:
-            x, y = carrier.center[0] + rng.uniform(-3, 3), carrier.center[1] + rng.uniform(-3, 3)
-        stacks.append((float(x), float(y), float(diameter)))
-    tilted = unit((0.02, -0.01, 1.0)) if rng.random() < 0.3 else LEVEL
-    wafers = []
-    for k in range(rng.randint(10, 60)):
-        x, y, diameter = rng.choice(stacks)
-        z = rng.choice([rng.uniform(start - 3.0, final + 3.0), start - 1.0, final + 0.5,
-                        290.0 + 10.0 * rng.randint(0, 24), 290.0 + 10.0 * rng.randint(0, 24)])
-        normal = tilted if rng.random() < 0.1 else LEVEL
-        wafers.append(Wafer(f"W{k}", (x, y, z), normal, diameter, rng.choice([0.775, 0.3, 1.5]),
-                            rng.choice(["C1", None, "C2"]), bow=rng.choice([0.0] * 9 + [0.05])))
-    scan = ScanParameters(start, final, rng.choice([0.05, 0.013, 0.001, 0.5]))
-    return Layout((carrier,), tuple(wafers), Beam(emitter, direction, length), scan)
-
-
 def layouts():
     paper = paper_layout(PAPER)
     fab = fab_layout(paper)
@@ -134,7 +81,9 @@ def layouts():
             layout = replace(layout, wafers=tuple(wafers))
         yield f"fab{seed}", layout
     for seed in range(400):
-        yield f"stacks{seed}", shared_stacks(random.Random(seed))
+        stacks = shared_stacks(random.Random(seed))
+        yield f"stacks{seed}", stacks
+        yield f"level-stacks{seed}", level_only(stacks)  # the shared pass taken
     for seed in range(300):
         layout = random_layout(random.Random(seed))
         yield f"random{seed}", layout
